@@ -1,0 +1,8 @@
+/* Every plumage subcommand: int run(int argc, char **argv), where argv[0]
+ * is the subcommand's name. Each returns the process exit status. */
+#ifndef PLUMAGE_CLI_COMMANDS_H
+#define PLUMAGE_CLI_COMMANDS_H
+
+int cmd_probe(int argc, char **argv);
+
+#endif

@@ -1,0 +1,182 @@
+#include "cli/options.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* Parses one option's value; returns 0 and prints why on failure. */
+static int parse_value(const plm_command_help *help, plm_option *o, const char *value)
+{
+    const char *cmd = help->usage;
+    switch (o->kind) {
+    case PLM_OPT_FLAG:
+        *(int *)o->target = 1;
+        return 1;
+    case PLM_OPT_STRING:
+        *(const char **)o->target = value;
+        return 1;
+    case PLM_OPT_CHOICE:
+        for (int i = 0; o->choices[i]; ++i)
+            if (strcmp(o->choices[i], value) == 0) {
+                *(int *)o->target = i;
+                return 1;
+            }
+        fprintf(stderr, "error: %s: '%s' is not one of:", o->name, value);
+        for (int i = 0; o->choices[i]; ++i)
+            fprintf(stderr, " %s", o->choices[i]);
+        fprintf(stderr, "\n");
+        return 0;
+    case PLM_OPT_INT: {
+        double v;
+        if (!parse_double(value, &v) || v != floor(v) || v < o->lo || v > o->hi) {
+            fprintf(stderr, "error: %s: '%s' must be a whole number in [%g, %g]\n", o->name, value, o->lo, o->hi);
+            return 0;
+        }
+        *(int *)o->target = (int)v;
+        return 1;
+    }
+    case PLM_OPT_DOUBLE:
+    case PLM_OPT_DOUBLES: {
+        int count = o->kind == PLM_OPT_DOUBLE ? 1 : o->count;
+        double vals[16];
+        char buf[512];
+        snprintf(buf, sizeof buf, "%s", value);
+        int n = 0;
+        char *save = NULL;
+        for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+            if (n >= count || !parse_double(tok, &vals[n]))
+                break;
+            ++n;
+            if (vals[n - 1] < o->lo || vals[n - 1] > o->hi) {
+                fprintf(stderr, "error: %s: %g is out of range [%g, %g]\n", o->name, vals[n - 1], o->lo, o->hi);
+                return 0;
+            }
+        }
+        if (n != count || strtok_r(NULL, ",", &save)) {
+            fprintf(stderr, "error: %s: '%s' must be %d comma-separated number%s in [%g, %g]\n", o->name, value,
+                    count, count > 1 ? "s" : "", o->lo, o->hi);
+            return 0;
+        }
+        memcpy(o->target, vals, (size_t)count * sizeof(double));
+        return 1;
+    }
+    }
+    (void)cmd;
+    return 0;
+}
+
+void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts)
+{
+    fprintf(out, "usage: %s\n\n%s\n\noptions:\n", help->usage, help->summary);
+    for (int i = 0; i < n_opts; ++i) {
+        char left[96];
+        snprintf(left, sizeof left, "%s%s%s", opts[i].name, opts[i].metavar ? " " : "",
+                 opts[i].metavar ? opts[i].metavar : "");
+        fprintf(out, "  %-30s %s\n", left, opts[i].help);
+    }
+    fprintf(out, "  %-30s %s\n", "--help", "show this help and exit");
+}
+
+int plm_parse_options(const plm_command_help *help, int argc, char **argv, int first, plm_option *opts,
+                      int n_opts, const char **positional, int max_positional, int *n_positional)
+{
+    if (n_positional)
+        *n_positional = 0;
+    for (int i = first; i < argc; ++i) {
+        const char *arg = argv[i];
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            plm_print_help(stdout, help, opts, n_opts);
+            return 1;
+        }
+        if (strncmp(arg, "-", 1) != 0 || strcmp(arg, "-") == 0) {
+            if (!n_positional || *n_positional >= max_positional) {
+                fprintf(stderr, "error: unexpected argument '%s' (see --help)\n", arg);
+                return 2;
+            }
+            positional[(*n_positional)++] = arg;
+            continue;
+        }
+        /* Accept both "--name value" and "--name=value". */
+        const char *eq = strchr(arg, '=');
+        size_t name_len = eq ? (size_t)(eq - arg) : strlen(arg);
+        plm_option *o = NULL;
+        for (int k = 0; k < n_opts && !o; ++k)
+            if (strlen(opts[k].name) == name_len && strncmp(opts[k].name, arg, name_len) == 0)
+                o = &opts[k];
+        if (!o) {
+            fprintf(stderr, "error: unknown option '%.*s' (see --help)\n", (int)name_len, arg);
+            return 2;
+        }
+        const char *value = eq ? eq + 1 : NULL;
+        if (o->kind == PLM_OPT_FLAG) {
+            if (value) {
+                fprintf(stderr, "error: %s takes no value\n", o->name);
+                return 2;
+            }
+        } else if (!value) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "error: %s needs a value (%s)\n", o->name, o->metavar ? o->metavar : "value");
+                return 2;
+            }
+            value = argv[++i];
+        }
+        if (!parse_value(help, o, value))
+            return 2;
+        o->seen = 1;
+    }
+    return 0;
+}
+
+int plm_read_numbers(FILE *in, const char *command, long *line_number, double *values, int n)
+{
+    char line[4096];
+    while (fgets(line, sizeof line, in)) {
+        ++*line_number;
+        if (!strchr(line, '\n') && !feof(in)) {
+            fprintf(stderr, "error: %s: stdin line %ld is too long\n", command, *line_number);
+            return -1;
+        }
+        char *hash = strchr(line, '#');
+        if (hash)
+            *hash = '\0';
+        char *p = line;
+        while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
+            ++p;
+        if (*p == '\0')
+            continue;
+        int got = 0;
+        for (;;) {
+            char *end;
+            double v = strtod(p, &end);
+            if (end == p)
+                break;
+            if (got < n)
+                values[got] = v;
+            if (!isfinite(v))
+                got = n + 1; /* NaN and Inf are never valid directions */
+            ++got;
+            p = end;
+        }
+        while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
+            ++p;
+        if (got != n || *p != '\0') {
+            fprintf(stderr, "error: %s: stdin line %ld: expected exactly %d finite numbers\n", command,
+                    *line_number, n);
+            return -1;
+        }
+        return 1;
+    }
+    return 0;
+}

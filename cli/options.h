@@ -1,0 +1,49 @@
+/* Command-line options for every plumage subcommand, table-driven so each
+ * command gets the same --help, the same errors for unknown options and
+ * out-of-range values, and no parsing code of its own. */
+#ifndef PLUMAGE_CLI_OPTIONS_H
+#define PLUMAGE_CLI_OPTIONS_H
+
+#include <stdio.h>
+
+typedef enum plm_opt_kind {
+    PLM_OPT_FLAG,    /* int: set to 1 when present */
+    PLM_OPT_INT,     /* int in [lo, hi] */
+    PLM_OPT_DOUBLE,  /* double in [lo, hi] */
+    PLM_OPT_DOUBLES, /* `count` comma-separated doubles, each in [lo, hi] ("0.1,0.2,0.3") */
+    PLM_OPT_STRING,  /* const char* pointing into argv */
+    PLM_OPT_CHOICE   /* int index into `choices` (NULL-terminated) */
+} plm_opt_kind;
+
+typedef struct plm_option {
+    const char *name;  /* "--eccentricity" */
+    plm_opt_kind kind;
+    void *target;      /* int*, double* (array for DOUBLES), const char**, int* */
+    int count;         /* DOUBLES only */
+    double lo, hi;     /* allowed closed range for numbers */
+    const char *const *choices; /* CHOICE only */
+    const char *metavar;        /* "E", "R,G,B" */
+    const char *help;           /* one line, including the default */
+    int seen;                   /* set by the parser */
+} plm_option;
+
+typedef struct plm_command_help {
+    const char *usage;   /* "plumage probe fiber [options] < directions" */
+    const char *summary; /* a paragraph printed above the options */
+} plm_command_help;
+
+/* Parses argv[first..argc). Positional arguments (not starting with "--")
+ * are collected into positional[] up to max_positional. Returns 0 on
+ * success, 1 if --help was printed (caller exits 0), 2 on error (message on
+ * stderr naming the option and its allowed range). */
+int plm_parse_options(const plm_command_help *help, int argc, char **argv, int first, plm_option *opts,
+                      int n_opts, const char **positional, int max_positional, int *n_positional);
+
+void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts);
+
+/* Reads the next non-empty line of stdin (stripping '#' comments) and parses
+ * exactly n whitespace-separated numbers. Returns 1 on success, 0 at end of
+ * input, -1 on a malformed line (message on stderr with the line number). */
+int plm_read_numbers(FILE *in, const char *command, long *line_number, double *values, int n);
+
+#endif

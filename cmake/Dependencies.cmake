@@ -1,0 +1,32 @@
+# Finds plumage's dependencies as Debian 12 ships them. Three of the shipped
+# CMake configs are broken (see the README's "Dependencies" section); these
+# are the workarounds.
+find_package(PkgConfig REQUIRED)
+
+# Embree 3: its config works.
+find_package(embree 3 REQUIRED)
+
+# OpenImageIO: the exported config names files from other packages, so use pkg-config.
+pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)
+
+# OpenSubdiv: the config names static libraries Debian does not ship.
+find_library(OSD_CPU osdCPU REQUIRED)
+find_path(OSD_INCLUDE opensubdiv/far/topologyRefiner.h REQUIRED)
+add_library(plumage_opensubdiv INTERFACE)
+target_link_libraries(plumage_opensubdiv INTERFACE ${OSD_CPU})
+target_include_directories(plumage_opensubdiv INTERFACE ${OSD_INCLUDE})
+
+# OpenMesh: the config works; its targets have no namespace.
+find_package(OpenMesh REQUIRED)
+
+pkg_check_modules(CJSON REQUIRED IMPORTED_TARGET libcjson)
+pkg_check_modules(CMOCKA REQUIRED IMPORTED_TARGET cmocka)
+find_package(Threads REQUIRED)
+
+# Every plumage library is a static library built from the .c/.cpp files of
+# its folder, included as "folder/header.h" from the repository root.
+function(plumage_library name)
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.c ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  add_library(${name} STATIC ${sources})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+endfunction()

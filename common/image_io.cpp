@@ -1,0 +1,80 @@
+// OpenImageIO adapter behind common/image_io.h: the only C++ in common/.
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+extern "C" {
+#include "common/fileio.h"
+#include "common/image_io.h"
+}
+
+using OIIO::ImageInput;
+using OIIO::ImageOutput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+static TypeDesc oiio_type(plm_pixel_type t)
+{
+    switch (t) {
+    case PLM_PIXEL_UINT8: return TypeDesc::UINT8;
+    case PLM_PIXEL_UINT16: return TypeDesc::UINT16;
+    default: return TypeDesc::FLOAT;
+    }
+}
+
+extern "C" plm_result plm_image_write(const char *path, int width, int height, int channels, plm_pixel_type type,
+                                      const void *data, plm_error *err)
+{
+    if (width <= 0 || height <= 0 || channels <= 0)
+        return plm_fail(err, PLM_ERR_INVALID, "%s: invalid image size %dx%dx%d", path, width, height, channels);
+    char temp[4096];
+    plm_temp_path_for(path, temp, sizeof temp);
+    auto out = ImageOutput::create(path);
+    if (!out)
+        return plm_fail(err, PLM_ERR_IO, "%s: no image writer for this file type (use .exr, .png, .hdr, .tif)", path);
+    ImageSpec spec(width, height, channels, oiio_type(type));
+    if (!out->open(temp, spec)) {
+        std::string msg = out->geterror();
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot write: %s", path, msg.c_str());
+    }
+    bool ok = out->write_image(oiio_type(type), data);
+    ok = out->close() && ok;
+    if (!ok) {
+        std::string msg = out->geterror();
+        std::remove(temp);
+        return plm_fail(err, PLM_ERR_IO, "%s: write failed: %s", path, msg.c_str());
+    }
+    if (std::rename(temp, path) != 0) {
+        std::remove(temp);
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot rename into place", path);
+    }
+    return PLM_OK;
+}
+
+extern "C" plm_result plm_image_read(const char *path, int *width, int *height, int *channels, float **pixels,
+                                     plm_error *err)
+{
+    *pixels = nullptr;
+    auto in = ImageInput::open(path);
+    if (!in) {
+        std::string msg = OIIO::geterror();
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot read image: %s", path, msg.c_str());
+    }
+    const ImageSpec &spec = in->spec();
+    size_t count = (size_t)spec.width * spec.height * spec.nchannels;
+    float *buf = (float *)std::malloc(count * sizeof(float));
+    if (!buf)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory", path);
+    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, buf)) {
+        std::string msg = in->geterror();
+        std::free(buf);
+        return plm_fail(err, PLM_ERR_PARSE, "%s: cannot decode image: %s", path, msg.c_str());
+    }
+    *width = spec.width;
+    *height = spec.height;
+    *channels = spec.nchannels;
+    *pixels = buf;
+    return PLM_OK;
+}

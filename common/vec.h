@@ -1,0 +1,85 @@
+/* Small vector and colour maths, all inline and by value (pbrt-style).
+ * Doubles throughout: the fiber tracer and the masking geometry need the
+ * precision, and the cost is negligible next to ray traversal. */
+#ifndef PLUMAGE_COMMON_VEC_H
+#define PLUMAGE_COMMON_VEC_H
+
+#include <math.h>
+
+#define PLM_PI 3.14159265358979323846
+#define PLM_TWO_PI 6.28318530717958647692
+#define PLM_INV_PI 0.31830988618379067154
+
+typedef struct vec2 { double x, y; } vec2;
+typedef struct vec3 { double x, y, z; } vec3;
+/* Linear RGB radiance, reflectance or throughput. */
+typedef struct rgb { double r, g, b; } rgb;
+
+static inline double plm_radians(double deg) { return deg * (PLM_PI / 180.0); }
+static inline double plm_degrees(double rad) { return rad * (180.0 / PLM_PI); }
+static inline double plm_clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
+static inline double plm_sqr(double x) { return x * x; }
+/* sqrt and asin that tolerate arguments a rounding error outside their domain. */
+static inline double plm_safe_sqrt(double x) { return x > 0.0 ? sqrt(x) : 0.0; }
+static inline double plm_safe_asin(double x) { return asin(plm_clamp(x, -1.0, 1.0)); }
+static inline double plm_safe_acos(double x) { return acos(plm_clamp(x, -1.0, 1.0)); }
+
+static inline vec2 v2(double x, double y) { vec2 v = {x, y}; return v; }
+static inline vec2 v2_add(vec2 a, vec2 b) { return v2(a.x + b.x, a.y + b.y); }
+static inline vec2 v2_sub(vec2 a, vec2 b) { return v2(a.x - b.x, a.y - b.y); }
+static inline vec2 v2_scale(vec2 a, double s) { return v2(a.x * s, a.y * s); }
+static inline double v2_dot(vec2 a, vec2 b) { return a.x * b.x + a.y * b.y; }
+/* z component of the 3D cross product: positive when b is counter-clockwise of a. */
+static inline double v2_cross(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+static inline double v2_length(vec2 a) { return sqrt(v2_dot(a, a)); }
+static inline vec2 v2_normalize(vec2 a) { return v2_scale(a, 1.0 / v2_length(a)); }
+
+static inline vec3 v3(double x, double y, double z) { vec3 v = {x, y, z}; return v; }
+static inline vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline vec3 v3_scale(vec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline vec3 v3_neg(vec3 a) { return v3(-a.x, -a.y, -a.z); }
+static inline vec3 v3_mul(vec3 a, vec3 b) { return v3(a.x * b.x, a.y * b.y, a.z * b.z); }
+static inline double v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline vec3 v3_cross(vec3 a, vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline double v3_length(vec3 a) { return sqrt(v3_dot(a, a)); }
+static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0 / v3_length(a)); }
+/* a + s * b */
+static inline vec3 v3_madd(vec3 a, vec3 b, double s) { return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z); }
+
+/* An orthonormal frame; to_local gives (w·x, w·y, w·z). */
+typedef struct frame { vec3 x, y, z; } frame;
+static inline vec3 frame_to_local(const frame *f, vec3 w) { return v3(v3_dot(w, f->x), v3_dot(w, f->y), v3_dot(w, f->z)); }
+static inline vec3 frame_to_world(const frame *f, vec3 l)
+{
+    return v3_add(v3_add(v3_scale(f->x, l.x), v3_scale(f->y, l.y)), v3_scale(f->z, l.z));
+}
+/* Any orthonormal frame with z = n (Duff et al. 2017, branchless ONB). */
+static inline frame frame_from_z(vec3 n)
+{
+    double s = copysign(1.0, n.z);
+    double a = -1.0 / (s + n.z), b = n.x * n.y * a;
+    frame f;
+    f.x = v3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    f.y = v3(b, s + n.y * n.y * a, -n.y);
+    f.z = n;
+    return f;
+}
+
+static inline rgb rgb_make(double r, double g, double b) { rgb c = {r, g, b}; return c; }
+static inline rgb rgb_gray(double v) { return rgb_make(v, v, v); }
+static inline rgb rgb_add(rgb a, rgb b) { return rgb_make(a.r + b.r, a.g + b.g, a.b + b.b); }
+static inline rgb rgb_sub(rgb a, rgb b) { return rgb_make(a.r - b.r, a.g - b.g, a.b - b.b); }
+static inline rgb rgb_mul(rgb a, rgb b) { return rgb_make(a.r * b.r, a.g * b.g, a.b * b.b); }
+static inline rgb rgb_scale(rgb a, double s) { return rgb_make(a.r * s, a.g * s, a.b * s); }
+static inline rgb rgb_exp_neg(rgb a) { return rgb_make(exp(-a.r), exp(-a.g), exp(-a.b)); }
+static inline double rgb_max(rgb a) { return fmax(a.r, fmax(a.g, a.b)); }
+static inline double rgb_mean(rgb a) { return (a.r + a.g + a.b) / 3.0; }
+static inline double rgb_luminance(rgb a) { return 0.2126 * a.r + 0.7152 * a.g + 0.0722 * a.b; }
+static inline int rgb_is_finite(rgb a) { return isfinite(a.r) && isfinite(a.g) && isfinite(a.b); }
+static inline int rgb_is_black(rgb a) { return a.r == 0.0 && a.g == 0.0 && a.b == 0.0; }
+
+#endif

@@ -1,0 +1,192 @@
+/* The shared base: random numbers, sampling helpers, JSON validation, safe files. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "common/fileio.h"
+#include "common/image_io.h"
+#include "common/json.h"
+#include "common/rng.h"
+#include "render/sampling.h"
+
+static void rng_is_reproducible_and_uniform(void **state)
+{
+    (void)state;
+    plm_rng a, b, c;
+    plm_rng_seed(&a, 42, 7);
+    plm_rng_seed(&b, 42, 7);
+    plm_rng_seed(&c, 42, 8);
+    int same_stream_differs = 0;
+    for (int i = 0; i < 1000; ++i) {
+        uint32_t x = plm_rng_u32(&a);
+        assert_int_equal(x, plm_rng_u32(&b));
+        same_stream_differs += x != plm_rng_u32(&c);
+    }
+    assert_true(same_stream_differs > 990);
+    /* Mean and variance of U(0,1): 1/2 and 1/12, to 5 sigma for 1e6 samples. */
+    double sum = 0, sum2 = 0;
+    int n = 1000000;
+    for (int i = 0; i < n; ++i) {
+        double u = plm_rng_uniform(&a);
+        assert_true(u >= 0.0 && u < 1.0);
+        sum += u;
+        sum2 += u * u;
+    }
+    double mean = sum / n, var = sum2 / n - mean * mean;
+    assert_true(fabs(mean - 0.5) < 5.0 * sqrt(1.0 / 12.0 / n));
+    assert_true(fabs(var - 1.0 / 12.0) < 1e-3);
+}
+
+static void distribution_matches_weights(void **state)
+{
+    (void)state;
+    double w[5] = {1.0, 0.0, 3.0, 0.0, 4.0}, cdf[6];
+    plm_distribution1d d = plm_distribution1d_build(w, 5, cdf);
+    assert_float_equal(d.total, 8.0, 1e-12);
+    int counts[5] = {0};
+    plm_rng rng;
+    plm_rng_seed(&rng, 1, 1);
+    int n = 800000;
+    for (int i = 0; i < n; ++i) {
+        double r;
+        int k = plm_distribution1d_sample(&d, plm_rng_uniform(&rng), &r);
+        assert_true(r >= 0.0 && r < 1.0);
+        counts[k]++;
+    }
+    assert_int_equal(counts[1], 0);
+    assert_int_equal(counts[3], 0);
+    for (int k = 0; k < 5; ++k) {
+        double p = w[k] / 8.0;
+        assert_float_equal(plm_distribution1d_pmf(&d, k), p, 1e-12);
+        assert_true(fabs(counts[k] - n * p) <= 5.0 * sqrt(n * p * (1 - p)) + 1e-9);
+    }
+}
+
+static void cosine_hemisphere_has_expected_moments(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 3, 0);
+    /* E[cos] = 2/3 under the pdf cos/pi. */
+    double sum = 0;
+    int n = 400000;
+    for (int i = 0; i < n; ++i) {
+        vec3 w = plm_sample_cosine_hemisphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
+        assert_float_equal(v3_length(w), 1.0, 1e-9);
+        assert_true(w.z >= 0.0);
+        sum += w.z;
+    }
+    assert_float_equal(sum / n, 2.0 / 3.0, 3e-3);
+}
+
+static const char *write_temp(const char *name, const char *text)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "/tmp/plumage-test-%ld-%s", (long)getpid(), name);
+    FILE *fp = fopen(path, "w");
+    fputs(text, fp);
+    fclose(fp);
+    return path;
+}
+
+static void json_errors_name_file_field_and_range(void **state)
+{
+    (void)state;
+    plm_error err = {{0}};
+    cJSON *root = NULL;
+    const char *bad = write_temp("bad.json", "{\n  \"a\": 1,\n  \"b\": [1, 2\n}\n");
+    assert_int_equal(plm_json_load(bad, &root, &err), PLM_ERR_PARSE);
+    assert_non_null(strstr(err.message, bad));
+    remove(bad);
+
+    const char *good = write_temp("good.json", "{\"camera\": {\"fov\": 200, \"extra\": true}}");
+    assert_int_equal(plm_json_load(good, &root, &err), PLM_OK);
+    plm_json_reader r = {"scene.json", &err};
+    const cJSON *camera = cJSON_GetObjectItem(root, "camera");
+    double fov;
+    assert_int_equal(plm_json_number(&r, camera, "camera", "fov", 40, 1, 179, &fov), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "scene.json: camera.fov: 200 is out of range [1, 179]"));
+    const char *allowed[] = {"fov", NULL};
+    assert_int_equal(plm_json_check_object(&r, camera, "camera", allowed), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "camera.extra: unknown field"));
+    double missing;
+    assert_int_equal(plm_json_number(&r, camera, "camera", "near", 0.5, 0, 1, &missing), PLM_OK);
+    assert_float_equal(missing, 0.5, 0.0);
+    cJSON_Delete(root);
+    remove(good);
+}
+
+static void atomic_file_leaves_nothing_on_abort(void **state)
+{
+    (void)state;
+    char path[256];
+    snprintf(path, sizeof path, "/tmp/plumage-test-%ld-atomic.txt", (long)getpid());
+    remove(path);
+    plm_atomic_file f;
+    plm_error err;
+    assert_int_equal(plm_atomic_open(&f, path, &err), PLM_OK);
+    fputs("partial", f.fp);
+    plm_atomic_abort(&f);
+    assert_int_equal(access(path, F_OK), -1);
+    assert_int_equal(access(f.temp_path, F_OK), -1);
+    assert_int_equal(plm_atomic_open(&f, path, &err), PLM_OK);
+    fputs("whole", f.fp);
+    assert_int_equal(plm_atomic_commit(&f, &err), PLM_OK);
+    char *text;
+    assert_int_equal(plm_read_text_file(path, &text, &err), PLM_OK);
+    assert_string_equal(text, "whole");
+    free(text);
+    remove(path);
+}
+
+static void image_round_trips_through_exr_and_png16(void **state)
+{
+    (void)state;
+    float px[2 * 3 * 3];
+    uint16_t px16[2 * 3 * 3];
+    for (int i = 0; i < 18; ++i) {
+        px[i] = 0.1f * (float)i - 0.3f;
+        px16[i] = (uint16_t)(i * 3000);
+    }
+    char exr[256], png[256];
+    snprintf(exr, sizeof exr, "/tmp/plumage-test-%ld.exr", (long)getpid());
+    snprintf(png, sizeof png, "/tmp/plumage-test-%ld.png", (long)getpid());
+    plm_error err;
+    assert_int_equal(plm_image_write(exr, 3, 2, 3, PLM_PIXEL_FLOAT, px, &err), PLM_OK);
+    assert_int_equal(plm_image_write(png, 3, 2, 3, PLM_PIXEL_UINT16, px16, &err), PLM_OK);
+    int w, h, c;
+    float *back;
+    assert_int_equal(plm_image_read(exr, &w, &h, &c, &back, &err), PLM_OK);
+    assert_int_equal(w * 10 + h * 100 + c, 3 * 10 + 2 * 100 + 3);
+    for (int i = 0; i < 18; ++i)
+        assert_float_equal(back[i], px[i], 1e-6);
+    free(back);
+    assert_int_equal(plm_image_read(png, &w, &h, &c, &back, &err), PLM_OK);
+    for (int i = 0; i < 18; ++i)
+        assert_float_equal(back[i], px16[i] / 65535.0, 1e-6);
+    free(back);
+    remove(exr);
+    remove(png);
+    assert_int_equal(plm_image_read("/nonexistent/x.exr", &w, &h, &c, &back, &err), PLM_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent/x.exr"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(rng_is_reproducible_and_uniform),
+        cmocka_unit_test(distribution_matches_weights),
+        cmocka_unit_test(cosine_hemisphere_has_expected_moments),
+        cmocka_unit_test(json_errors_name_file_field_and_range),
+        cmocka_unit_test(atomic_file_leaves_nothing_on_abort),
+        cmocka_unit_test(image_round_trips_through_exr_and_png16),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
