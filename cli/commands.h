@@ -4,5 +4,6 @@
 #define PLUMAGE_CLI_COMMANDS_H
 
 int cmd_probe(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
 
 #endif

@@ -7,6 +7,12 @@
 #include <stdint.h>
 #include "common/error.h"
 
+/* An image in memory: float channels, row-major, top row first. */
+typedef struct plm_image {
+    int width, height, channels;
+    float *pixels; /* width * height * channels, malloc'd */
+} plm_image;
+
 typedef enum plm_pixel_type {
     PLM_PIXEL_FLOAT = 0,  /* 32-bit float (EXR, HDR, TIFF) */
     PLM_PIXEL_UINT8 = 1,  /* PNG, JPEG */

@@ -1,0 +1,80 @@
+/* plumage bench <what>: prints performance figures for one part of plumage. */
+#include "cli/bench.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <time.h>
+
+#include "cli/commands.h"
+
+double plm_bench_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double plm_bench_ns_per_call(void (*body)(void *ctx, long calls), void *ctx, long calls, int runs)
+{
+    double times[64];
+    if (runs > 64)
+        runs = 64;
+    body(ctx, calls / 10 + 1); /* warm caches and branch predictors */
+    for (int r = 0; r < runs; ++r) {
+        double t0 = plm_bench_seconds();
+        body(ctx, calls);
+        times[r] = (plm_bench_seconds() - t0) * 1e9 / (double)calls;
+    }
+    qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
+    return runs % 2 ? times[runs / 2] : 0.5 * (times[runs / 2 - 1] + times[runs / 2]);
+}
+
+double plm_bench_peak_mib(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (double)ru.ru_maxrss / 1024.0; /* Linux reports KiB */
+}
+
+typedef struct bench {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} bench;
+
+static const bench benches[] = {
+    {NULL, NULL, NULL}, /* sentinel: benchmarks are added here as the parts land */
+};
+
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: plumage bench <what> [options]\n\nbenchmarks:\n");
+    for (const bench *b = benches; b->name; ++b)
+        fprintf(out, "  %-10s %s\n", b->name, b->summary);
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    for (const bench *b = benches; b->name; ++b)
+        if (strcmp(argv[1], b->name) == 0)
+            return b->run(argc - 1, argv + 1);
+    fprintf(stderr, "error: unknown benchmark '%s'\n\n", argv[1]);
+    usage(stderr);
+    return 2;
+}
