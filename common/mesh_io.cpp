@@ -1,0 +1,243 @@
+// OpenMesh adapter behind common/mesh.h: PLY and OBJ files of a plm_mesh.
+//
+// PLY (binary, little endian) carries positions, normals, uvs and tangents;
+// the tangents travel as three extra float vertex properties "tx", "ty", "tz"
+// (OpenMesh's custom persistent properties). OBJ has no place for tangents:
+// it carries positions, normals and uvs, and readers derive tangents from the
+// uvs. Writes go to a temporary file beside the destination and are renamed
+// into place, so a failed write leaves nothing behind.
+// OpenMesh's property vectors default-construct uninitialised points, which
+// gcc 12 reports inside its headers; nothing of ours is affected.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <mutex>
+
+extern "C" {
+#include "common/fileio.h"
+#include "common/mesh.h"
+}
+
+namespace {
+
+struct plm_om_traits : OpenMesh::DefaultTraits {
+    typedef OpenMesh::Vec3f Point;
+    typedef OpenMesh::Vec3f Normal;
+    typedef OpenMesh::Vec2f TexCoord2D;
+    VertexAttributes(OpenMesh::Attributes::Normal | OpenMesh::Attributes::TexCoord2D);
+};
+typedef OpenMesh::TriMesh_ArrayKernelT<plm_om_traits> om_mesh;
+
+const char *const tangent_names[3] = {"tx", "ty", "tz"};
+
+// OpenMesh prints its own diagnostics on std::cerr; plumage reports errors
+// through plm_error instead, so they are switched off once per process.
+void quiet_openmesh()
+{
+    static std::once_flag once;
+    std::call_once(once, [] {
+        omerr().disconnect(std::cerr);
+        omlog().disable();
+        omout().disable();
+    });
+}
+
+bool is_supported_extension(const char *path, char *ext, size_t ext_size)
+{
+    plm_path_extension(path, ext, ext_size);
+    return std::strcmp(ext, "ply") == 0 || std::strcmp(ext, "obj") == 0;
+}
+
+bool all_finite(const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!std::isfinite(v[i]))
+            return false;
+    return true;
+}
+
+plm_result build_om_mesh(const char *path, const plm_mesh *m, om_mesh &om, plm_error *err)
+{
+    if (m->vertex_count <= 0 || m->triangle_count <= 0 || !m->positions || !m->indices)
+        return plm_fail(err, PLM_ERR_INVALID, "%s: the mesh is empty (%d vertices, %d triangles)", path,
+                        m->vertex_count, m->triangle_count);
+    size_t nv = (size_t)m->vertex_count;
+    if (!all_finite(m->positions, 3 * nv) || (m->normals && !all_finite(m->normals, 3 * nv)) ||
+        (m->uvs && !all_finite(m->uvs, 2 * nv)) || (m->tangents && !all_finite(m->tangents, 3 * nv)))
+        return plm_fail(err, PLM_ERR_INVALID, "%s: the mesh has a non-finite vertex attribute", path);
+    om.reserve(nv, 3 * (size_t)m->triangle_count, (size_t)m->triangle_count);
+    for (size_t i = 0; i < nv; ++i) {
+        const float *p = m->positions + 3 * i;
+        om_mesh::VertexHandle vh = om.add_vertex(om_mesh::Point(p[0], p[1], p[2]));
+        if (m->normals)
+            om.set_normal(vh, om_mesh::Normal(m->normals[3 * i], m->normals[3 * i + 1], m->normals[3 * i + 2]));
+        if (m->uvs)
+            om.set_texcoord2D(vh, om_mesh::TexCoord2D(m->uvs[2 * i], m->uvs[2 * i + 1]));
+    }
+    for (int t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *idx = m->indices + 3 * (size_t)t;
+        if (idx[0] >= nv || idx[1] >= nv || idx[2] >= nv)
+            return plm_fail(err, PLM_ERR_INVALID, "%s: triangle %d refers to a vertex beyond %d", path, t,
+                            m->vertex_count);
+        if (idx[0] == idx[1] || idx[1] == idx[2] || idx[2] == idx[0])
+            return plm_fail(err, PLM_ERR_INVALID, "%s: triangle %d (%u %u %u) repeats a vertex", path, t, idx[0],
+                            idx[1], idx[2]);
+        om_mesh::FaceHandle fh = om.add_face(om.vertex_handle(idx[0]), om.vertex_handle(idx[1]),
+                                             om.vertex_handle(idx[2]));
+        if (!fh.is_valid())
+            return plm_fail(err, PLM_ERR_INVALID,
+                            "%s: triangle %d (%u %u %u) makes the mesh non-manifold", path, t,
+                            idx[0], idx[1], idx[2]);
+    }
+    if (m->tangents) {
+        for (int c = 0; c < 3; ++c) {
+            OpenMesh::VPropHandleT<float> h;
+            om.add_property(h, tangent_names[c]);
+            om.property(h).set_persistent(true);
+            for (size_t i = 0; i < nv; ++i)
+                om.property(h, om.vertex_handle((unsigned)i)) = m->tangents[3 * i + c];
+        }
+    }
+    return PLM_OK;
+}
+
+// Copies a read OpenMesh mesh into malloc'd plm_mesh arrays.
+plm_result copy_from_om(const char *path, const om_mesh &om, const OpenMesh::IO::Options &opt, plm_mesh *out,
+                        plm_error *err)
+{
+    size_t nv = om.n_vertices(), nf = om.n_faces();
+    if (nv == 0 || nf == 0)
+        return plm_fail(err, PLM_ERR_PARSE, "%s: the file holds no triangles", path);
+    if (nv > 0x7fffffffu || nf > 0x7fffffffu)
+        return plm_fail(err, PLM_ERR_PARSE, "%s: too many vertices or triangles", path);
+    OpenMesh::VPropHandleT<float> th[3];
+    bool has_tangents = true;
+    for (int c = 0; c < 3; ++c)
+        has_tangents = om.get_property_handle(th[c], tangent_names[c]) && has_tangents;
+    out->vertex_count = (int)nv;
+    out->triangle_count = (int)nf;
+    out->positions = (float *)std::malloc(3 * nv * sizeof(float));
+    out->normals = opt.vertex_has_normal() ? (float *)std::malloc(3 * nv * sizeof(float)) : nullptr;
+    out->uvs = opt.vertex_has_texcoord() ? (float *)std::malloc(2 * nv * sizeof(float)) : nullptr;
+    out->tangents = has_tangents ? (float *)std::malloc(3 * nv * sizeof(float)) : nullptr;
+    out->indices = (uint32_t *)std::malloc(3 * nf * sizeof(uint32_t));
+    if (!out->positions || !out->indices || (opt.vertex_has_normal() && !out->normals) ||
+        (opt.vertex_has_texcoord() && !out->uvs) || (has_tangents && !out->tangents))
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory", path);
+    for (om_mesh::VertexIter v = om.vertices_begin(); v != om.vertices_end(); ++v) {
+        size_t i = (size_t)v->idx();
+        const om_mesh::Point &p = om.point(*v);
+        std::memcpy(out->positions + 3 * i, p.data(), 3 * sizeof(float));
+        if (out->normals)
+            std::memcpy(out->normals + 3 * i, om.normal(*v).data(), 3 * sizeof(float));
+        if (out->uvs)
+            std::memcpy(out->uvs + 2 * i, om.texcoord2D(*v).data(), 2 * sizeof(float));
+        for (int c = 0; has_tangents && c < 3; ++c)
+            out->tangents[3 * i + c] = om.property(th[c], *v);
+    }
+    for (om_mesh::FaceIter f = om.faces_begin(); f != om.faces_end(); ++f) {
+        uint32_t *idx = out->indices + 3 * (size_t)f->idx();
+        int k = 0;
+        for (om_mesh::ConstFaceVertexCCWIter fv = om.cfv_ccwbegin(*f); fv.is_valid() && k < 3; ++fv)
+            idx[k++] = (uint32_t)fv->idx();
+    }
+    size_t n = 3 * nv;
+    if (!all_finite(out->positions, n) || (out->normals && !all_finite(out->normals, n)) ||
+        (out->uvs && !all_finite(out->uvs, 2 * nv)) || (out->tangents && !all_finite(out->tangents, n)))
+        return plm_fail(err, PLM_ERR_PARSE, "%s: the file has a non-finite vertex attribute", path);
+    return PLM_OK;
+}
+
+} // namespace
+
+extern "C" void plm_mesh_free(plm_mesh *mesh)
+{
+    if (!mesh)
+        return;
+    std::free(mesh->positions);
+    std::free(mesh->normals);
+    std::free(mesh->uvs);
+    std::free(mesh->tangents);
+    std::free(mesh->indices);
+    std::memset(mesh, 0, sizeof *mesh);
+}
+
+extern "C" plm_result plm_mesh_write(const char *path, const plm_mesh *mesh, plm_error *err)
+{
+    char ext[16];
+    if (!is_supported_extension(path, ext, sizeof ext))
+        return plm_fail(err, PLM_ERR_INVALID, "%s: unsupported mesh format '.%s' (use .ply or .obj)", path, ext);
+    quiet_openmesh();
+    om_mesh om;
+    plm_result rc = build_om_mesh(path, mesh, om, err);
+    if (rc != PLM_OK)
+        return rc;
+    OpenMesh::IO::Options opt;
+    if (std::strcmp(ext, "ply") == 0)
+        opt += OpenMesh::IO::Options::Binary | OpenMesh::IO::Options::LSB;
+    if (mesh->normals)
+        opt += OpenMesh::IO::Options::VertexNormal;
+    if (mesh->uvs)
+        opt += OpenMesh::IO::Options::VertexTexCoord;
+    if (mesh->tangents)
+        opt += OpenMesh::IO::Options::Custom;
+    char temp[4096];
+    plm_temp_path_for(path, temp, sizeof temp);
+    // OpenMesh does not say why a write failed; creating the file first does.
+    FILE *fp = std::fopen(temp, "wb");
+    if (!fp)
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot create file: %s", path, std::strerror(errno));
+    std::fclose(fp);
+    bool ok = false;
+    try {
+        ok = OpenMesh::IO::write_mesh(om, temp, opt, 9);
+    } catch (const std::exception &) {
+        ok = false;
+    }
+    if (!ok) {
+        std::remove(temp);
+        return plm_fail(err, PLM_ERR_IO, "%s: the OpenMesh writer failed", path);
+    }
+    if (std::rename(temp, path) != 0) {
+        std::remove(temp);
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot rename into place", path);
+    }
+    return PLM_OK;
+}
+
+extern "C" plm_result plm_mesh_read(const char *path, plm_mesh *out, plm_error *err)
+{
+    std::memset(out, 0, sizeof *out);
+    char ext[16];
+    if (!is_supported_extension(path, ext, sizeof ext))
+        return plm_fail(err, PLM_ERR_INVALID, "%s: unsupported mesh format '.%s' (use .ply or .obj)", path, ext);
+    FILE *probe = std::fopen(path, "rb");
+    if (!probe)
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
+    std::fclose(probe);
+    quiet_openmesh();
+    om_mesh om;
+    om.request_vertex_normals();
+    om.request_vertex_texcoords2D();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal | OpenMesh::IO::Options::VertexTexCoord |
+                                OpenMesh::IO::Options::Custom;
+    bool ok = false;
+    try {
+        ok = OpenMesh::IO::read_mesh(om, path, opt);
+    } catch (const std::exception &) {
+        ok = false;
+    }
+    if (!ok)
+        return plm_fail(err, PLM_ERR_PARSE, "%s: not a readable %s mesh", path, ext);
+    plm_result rc = copy_from_om(path, om, opt, out, err);
+    if (rc != PLM_OK)
+        plm_mesh_free(out);
+    return rc;
+}
