@@ -1,0 +1,161 @@
+/* Evaluation and sampling of the fiber BCSDF from a traced lobe set
+ * (paper Eqs. 1 and 2 with D = 1).
+ *
+ * Each lobe k is an impulse of throughput A_k in direction (Theta_k, Phi_k),
+ * blurred by the detectors: G_M, a Gaussian in theta of std-dev beta_m
+ * truncated and normalised to [-pi/2, pi/2], and G_N, a Gaussian in phi of
+ * std-dev beta_n wrapped onto the circle. Both are proper densities in
+ * (theta, phi), so with the solid-angle measure cos(theta) dtheta dphi,
+ *   eval(wi) cos(theta_i) = sum_k A_k G_M G_N / cos(theta_i)
+ * integrates to sum_k A_k over the sphere, and sampling G_M and G_N exactly
+ * gives pdf = sum_k P_k G_M G_N / cos(theta_i). */
+#include "render/fiber.h"
+
+#include <float.h>
+
+#define SQRT2 1.41421356237309504880
+#define SQRT_2PI 2.50662827463100050242
+#define HALF_PI (0.5 * PLM_PI)
+
+/* Inverse error function: Winitzki's closed-form guess (relative error about
+ * 2e-3) polished by Newton steps on erf, or erfc near +-1 where 1 - y is exact. */
+static double erfinv(double y)
+{
+    double one_minus_y2 = (1.0 - y) * (1.0 + y);
+    double ln = log(one_minus_y2), a = 0.147, t = 2.0 / (PLM_PI * a) + 0.5 * ln;
+    double x = copysign(sqrt(sqrt(t * t - ln / a) - t), y);
+    const double two_over_sqrt_pi = 1.12837916709551257390;
+    for (int i = 0; i < 3; ++i) {
+        double slope = two_over_sqrt_pi * exp(-x * x);
+        if (!(slope > 0.0))
+            break;
+        double residual = fabs(y) > 0.5 ? copysign((1.0 - fabs(y)) - erfc(fabs(x)), y) : erf(x) - y;
+        x -= residual / slope;
+    }
+    return x;
+}
+
+/* 1 / (sqrt(2 pi) beta Z) where Z is the mass of N(Theta, beta) inside [-pi/2, pi/2]. */
+static double gm_scale(double Theta, double beta)
+{
+    double s = 1.0 / (SQRT2 * beta);
+    double z = 0.5 * (erf((HALF_PI - Theta) * s) + erf((HALF_PI + Theta) * s));
+    return 1.0 / (SQRT_2PI * beta * z);
+}
+
+/* Wrapped Gaussian on the circle; terms further than 10 beta (e^-50 relative) are skipped. */
+static double gn(double dphi, double beta)
+{
+    dphi = remainder(dphi, PLM_TWO_PI);
+    double sum = 0.0, cutoff = 10.0 * beta, inv2b2 = 0.5 / (beta * beta);
+    int wraps = 1 + (int)(cutoff / PLM_TWO_PI);
+    for (int k = -wraps; k <= wraps; ++k) {
+        double d = dphi + PLM_TWO_PI * k;
+        if (fabs(d) < cutoff)
+            sum += exp(-d * d * inv2b2);
+    }
+    return sum / (SQRT_2PI * beta);
+}
+
+/* A uniform in [0, 1) to (-1, 1) for erfinv, never reaching the poles. */
+static double to_open_symmetric(double u)
+{
+    double y = 2.0 * u - 1.0;
+    return plm_clamp(y, -1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON);
+}
+
+/* Inverse CDF of G_M about Theta. */
+static double sample_gm(double Theta, double beta, double u)
+{
+    double s = SQRT2 * beta;
+    double lo = erf((-HALF_PI - Theta) / s), hi = erf((HALF_PI - Theta) / s);
+    double y = plm_clamp(lo + u * (hi - lo), -1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON);
+    return plm_clamp(Theta + s * erfinv(y), -HALF_PI, HALF_PI);
+}
+
+void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
+                       plm_fiber_lobe_set *set)
+{
+    set->count = 0;
+    set->total = 0.0;
+    set->cdf[0] = 0.0;
+    set->h = hmin + (hmax - hmin) * plm_rng_uniform(rng);
+    if (p->lobes > PLM_FIBER_SET_MAX_LOBES)
+        return;
+    plm_fiber_lobe lobes[PLM_FIBER_SET_MAX_LOBES];
+    int n = plm_fiber_trace(p, wo, set->h, rng, lobes);
+    for (int i = 0; i < n; ++i) {
+        double w = rgb_mean(lobes[i].throughput);
+        if (!(w > 0.0))
+            continue; /* black lobes add nothing to eval, pdf or sample */
+        int k = set->count++;
+        set->theta[k] = plm_safe_asin(lobes[i].dir.z);
+        set->phi[k] = atan2(lobes[i].dir.y, lobes[i].dir.x);
+        set->gm_scale[k] = gm_scale(set->theta[k], p->beta_m);
+        set->throughput[k] = lobes[i].throughput;
+        set->cdf[k + 1] = set->cdf[k] + w;
+    }
+    set->total = set->cdf[set->count];
+}
+
+/* sum_k A_k G_M G_N and sum_k mean(A_k) G_M G_N at wi, and cos(theta_i);
+ * returns 0 at the poles, where both densities' 1/cos(theta) has no meaning. */
+static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi, rgb *f_sum,
+                         double *p_sum, double *cos_theta)
+{
+    double ct = sqrt(wi.x * wi.x + wi.y * wi.y);
+    *f_sum = rgb_gray(0.0);
+    *p_sum = 0.0;
+    *cos_theta = ct;
+    if (!(ct > 1e-12))
+        return 0;
+    double theta = atan2(wi.z, ct), phi = atan2(wi.y, wi.x), inv2b2 = 0.5 / (p->beta_m * p->beta_m);
+    for (int k = 0; k < set->count; ++k) {
+        double dt = theta - set->theta[k];
+        double d = set->gm_scale[k] * exp(-dt * dt * inv2b2) * gn(phi - set->phi[k], p->beta_n);
+        *f_sum = rgb_add(*f_sum, rgb_scale(set->throughput[k], d));
+        *p_sum += (set->cdf[k + 1] - set->cdf[k]) * d;
+    }
+    return 1;
+}
+
+rgb plm_fiber_eval(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi)
+{
+    rgb f;
+    double unused, ct;
+    if (!detector_sums(p, set, wi, &f, &unused, &ct))
+        return rgb_gray(0.0);
+    return rgb_scale(f, 1.0 / (ct * ct));
+}
+
+double plm_fiber_pdf(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi)
+{
+    rgb unused;
+    double s, ct;
+    if (!(set->total > 0.0) || !detector_sums(p, set, wi, &unused, &s, &ct))
+        return 0.0;
+    return s / (set->total * ct);
+}
+
+int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, double u0, double u1, double u2,
+                     plm_fiber_sample_rec *rec)
+{
+    if (!(set->total > 0.0))
+        return 0;
+    double target = u0 * set->total;
+    int k = 0;
+    while (k + 1 < set->count && set->cdf[k + 1] <= target)
+        ++k;
+    double theta = sample_gm(set->theta[k], p->beta_m, u1);
+    double phi = remainder(set->phi[k] + SQRT2 * p->beta_n * erfinv(to_open_symmetric(u2)), PLM_TWO_PI);
+    vec3 wi = plm_fiber_direction(theta, phi);
+    rgb f;
+    double s, ct;
+    if (!detector_sums(p, set, wi, &f, &s, &ct) || !(s > 0.0))
+        return 0;
+    rec->wi = wi;
+    rec->pdf = s / (set->total * ct);
+    rec->weight = rgb_scale(f, set->total / s); /* eval cos / pdf, without forming the 1/cos factors */
+    rec->lobe = k;
+    return 1;
+}

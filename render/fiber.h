@@ -1,0 +1,110 @@
+/* The fiber BCSDF of barbs and barbules (paper Sec. 5, Eqs. 1-3).
+ *
+ * A fiber is an infinite cylinder with an elliptical cortex (semi-axis 1 along
+ * e2, `eccentricity` along e3) of refractive index eta and RGB absorption
+ * sigma_a, optionally holding a Lambertian medulla: an ellipse of its own,
+ * anywhere strictly inside the cortex. Directions are in the fiber frame
+ * (x = e2, y = e3, z = fiber axis); theta = asin(w.z), phi = atan2(w.y, w.x).
+ *
+ * Evaluation follows the paper's stochastic scheme, made exactly
+ * self-consistent: per shading query a *lobe set* is traced once from the
+ * view direction wo (plm_fiber_prepare), and eval/pdf/sample are then
+ * deterministic functions of (set, wi). The expectation over lobe sets of
+ * plm_fiber_eval is the BCSDF of Eqs. 1-2 (with D = 1). */
+#ifndef PLUMAGE_RENDER_FIBER_H
+#define PLUMAGE_RENDER_FIBER_H
+
+#include "common/error.h"
+#include "common/rng.h"
+#include "common/vec.h"
+
+/* Most lobes plm_fiber_trace supports (the energy tests compare 5 with 1000). */
+#define PLM_FIBER_MAX_LOBES 1000
+/* Most lobes a lobe set (the rendering path) holds. */
+#define PLM_FIBER_SET_MAX_LOBES 32
+
+typedef struct plm_fiber_params { /* zero-init is NOT valid; use plm_fiber_params_default() */
+    double eccentricity;          /* cortex semi-axis along e3; the semi-axis along e2 is 1 */
+    double eta;                   /* cortex refractive index (the medulla's is the same) */
+    rgb sigma_a;                  /* cortex absorption per unit 3D path length (units of the e2 semi-axis) */
+    double beta_m, beta_n;        /* longitudinal / azimuthal detector standard deviations, radians */
+    double medulla_a, medulla_b;  /* medulla semi-axes along e2, e3; both 0 = no medulla */
+    double medulla_ca, medulla_cb; /* medulla centre */
+    rgb medulla_reflectance;      /* Lambertian albedo d_m */
+    int lobes;                    /* N: lobes traced per path, default 5 */
+} plm_fiber_params;
+
+/* Circular clear cortex, eta 1.55 (keratin, REFERENCES.md), beta_m = 0.13 and
+ * beta_n = 0.12 rad (paper Fig. 7), no medulla (white if enabled), 5 lobes. */
+void plm_fiber_params_default(plm_fiber_params *p);
+
+/* Checks every field; the message names the field and its allowed range, or
+ * says how the medulla pokes out of the cortex. */
+plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err);
+
+static inline int plm_fiber_has_medulla(const plm_fiber_params *p) { return p->medulla_a > 0.0; }
+
+/* One exit of light from the cortex. */
+typedef struct plm_fiber_lobe {
+    vec3 dir;       /* exit direction, unit, pointing away from the fiber */
+    rgb throughput; /* fraction of the light entering at h that leaves here */
+} plm_fiber_lobe;
+
+/* Traces light arriving from view direction wo (unit, pointing away from the
+ * fiber) at entry offset h in [-1, 1] (DESIGN 3.2) and fills lobes[0..count)
+ * in the order light leaves the cortex (lobe 0 is the surface reflection);
+ * returns count <= max_lobes (fewer when light is absorbed, lost along the
+ * axis, or exceeds the interaction bound of 16 max_lobes + 64). rng drives
+ * the medulla's diffuse bounces and may be NULL without a medulla (then the
+ * result is deterministic). If inside is not NULL it receives the throughput
+ * still travelling inside the fiber when tracing stopped. */
+int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes,
+                      int max_lobes, rgb *inside);
+/* plm_fiber_trace_n with max_lobes = p->lobes (lobes must hold that many). */
+int plm_fiber_trace(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes);
+
+/* A traced lobe set: what eval/pdf/sample need, precomputed once. */
+typedef struct plm_fiber_lobe_set {
+    int count;
+    double h;                                     /* the entry offset traced */
+    double theta[PLM_FIBER_SET_MAX_LOBES];        /* lobe direction Theta_k */
+    double phi[PLM_FIBER_SET_MAX_LOBES];          /* lobe direction Phi_k */
+    double gm_scale[PLM_FIBER_SET_MAX_LOBES];     /* 1 / (sqrt(2 pi) beta_m Z_k): G_M's normalisation */
+    rgb throughput[PLM_FIBER_SET_MAX_LOBES];      /* A_k */
+    double cdf[PLM_FIBER_SET_MAX_LOBES + 1];      /* lobe choice, P_k proportional to mean(A_k) */
+    double total;                                 /* sum of mean(A_k); 0 = nothing to sample */
+} plm_fiber_lobe_set;
+
+/* Picks h uniformly in [hmin, hmax] (a one-sample estimate of Eq. 1's
+ * h-integral), traces from wo and fills set. Requires p->lobes <=
+ * PLM_FIBER_SET_MAX_LOBES (otherwise the set is left empty). */
+void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
+                       plm_fiber_lobe_set *set);
+
+/* S(wo, wi): eval(wi) cos(theta_i) = sum_k A_k G_M(theta_i - Theta_k) G_N(phi_i - Phi_k) / cos(theta_i),
+ * so the integral of eval cos over the sphere is sum_k A_k. G_M is a Gaussian
+ * normalised on [-pi/2, pi/2], G_N a wrapped Gaussian normalised on the circle. */
+rgb plm_fiber_eval(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi);
+/* Solid-angle density of plm_fiber_sample: sum_k P_k G_M G_N / cos(theta_i). */
+double plm_fiber_pdf(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi);
+
+typedef struct plm_fiber_sample_rec {
+    vec3 wi;
+    double pdf;  /* plm_fiber_pdf(wi) */
+    rgb weight;  /* eval(wi) cos(theta_i) / pdf */
+    int lobe;    /* the lobe chosen */
+} plm_fiber_sample_rec;
+
+/* Chooses a lobe with probability P_k, then theta_i and phi_i by inverting
+ * G_M's and G_N's CDFs with u1 and u2. Returns 0 (rec untouched) if the set
+ * has nothing to sample. */
+int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, double u0, double u1, double u2,
+                     plm_fiber_sample_rec *rec);
+
+/* Fiber-frame direction from (theta, phi), radians. */
+static inline vec3 plm_fiber_direction(double theta, double phi)
+{
+    return v3(cos(theta) * cos(phi), cos(theta) * sin(phi), sin(theta));
+}
+
+#endif

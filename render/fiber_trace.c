@@ -1,0 +1,294 @@
+/* The fiber tracer: exact geometric optics in an infinite elliptical
+ * cylinder (paper Sec. 5.2, Eq. 3).
+ *
+ * The cylinder is invariant along its axis, so a path is a 2D position in the
+ * cross-section plus a 3D direction. Ray parameters are 3D lengths (the
+ * direction is a unit 3D vector), which is what Beer-Lambert needs. Interface
+ * normals lie in the cross-section, so 3D vector Snell with them is exactly
+ * the Bravais formulation (projected index for the azimuth, Snell for the
+ * longitudinal angle), and 3D Fresnel at the true angle of incidence is the
+ * exact unpolarised reflectance. */
+#include "render/fiber.h"
+
+#include <stddef.h>
+
+#include "render/sampling.h"
+
+void plm_fiber_params_default(plm_fiber_params *p)
+{
+    p->eccentricity = 1.0;
+    p->eta = 1.55;
+    p->sigma_a = rgb_gray(0.0);
+    p->beta_m = 0.13;
+    p->beta_n = 0.12;
+    p->medulla_a = p->medulla_b = 0.0;
+    p->medulla_ca = p->medulla_cb = 0.0;
+    p->medulla_reflectance = rgb_gray(1.0);
+    p->lobes = 5;
+}
+
+/* ---- validation ---------------------------------------------------------- */
+
+static int in_range(double v, double lo, double hi) { return v >= lo && v <= hi; } /* false for NaN */
+
+/* Largest value of the cortex's implicit function x^2 + (y/e)^2 on the
+ * medulla's boundary: below 1 means the medulla is strictly inside. A dense
+ * scan brackets the maximum, golden-section search pins it down. */
+static double medulla_max_cortex_level(const plm_fiber_params *p)
+{
+    double e2 = p->eccentricity * p->eccentricity;
+#define LEVEL(t) (plm_sqr(p->medulla_ca + p->medulla_a * cos(t)) + plm_sqr(p->medulla_cb + p->medulla_b * sin(t)) / e2)
+    const int n = 720;
+    double best_t = 0.0, best = -1.0;
+    for (int i = 0; i < n; ++i) {
+        double t = PLM_TWO_PI * i / n, v = LEVEL(t);
+        if (v > best) {
+            best = v;
+            best_t = t;
+        }
+    }
+    const double g = 0.5 * (sqrt(5.0) - 1.0);
+    double lo = best_t - PLM_TWO_PI / n, hi = best_t + PLM_TWO_PI / n;
+    for (int i = 0; i < 80; ++i) {
+        double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
+        if (LEVEL(a) > LEVEL(b))
+            hi = b;
+        else
+            lo = a;
+    }
+    double refined = LEVEL(0.5 * (lo + hi));
+#undef LEVEL
+    return refined > best ? refined : best;
+}
+
+static plm_result check(plm_error *err, const char *field, double v, double lo, double hi)
+{
+    if (in_range(v, lo, hi))
+        return PLM_OK;
+    return plm_fail(err, PLM_ERR_INVALID, "fiber: %s = %g is out of range [%g, %g]", field, v, lo, hi);
+}
+
+static plm_result check_rgb(plm_error *err, const char *field, rgb v, double lo, double hi)
+{
+    if (in_range(v.r, lo, hi) && in_range(v.g, lo, hi) && in_range(v.b, lo, hi))
+        return PLM_OK;
+    return plm_fail(err, PLM_ERR_INVALID, "fiber: %s = (%g, %g, %g): each channel must be in [%g, %g]", field,
+                    v.r, v.g, v.b, lo, hi);
+}
+
+plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err)
+{
+    plm_result r;
+    if ((r = check(err, "eccentricity", p->eccentricity, 0.01, 100.0)) ||
+        (r = check(err, "eta", p->eta, 1.0, 4.0)) || (r = check_rgb(err, "sigma_a", p->sigma_a, 0.0, 1e4)) ||
+        (r = check(err, "beta_m (radians)", p->beta_m, plm_radians(0.5), 0.5 * PLM_PI)) ||
+        (r = check(err, "beta_n (radians)", p->beta_n, plm_radians(0.5), 0.5 * PLM_PI)) ||
+        (r = check_rgb(err, "medulla_reflectance", p->medulla_reflectance, 0.0, 1.0)) ||
+        (r = check(err, "lobes", p->lobes, 1, PLM_FIBER_MAX_LOBES)) ||
+        (r = check(err, "medulla_a", p->medulla_a, 0.0, 100.0)) ||
+        (r = check(err, "medulla_b", p->medulla_b, 0.0, 100.0)) ||
+        (r = check(err, "medulla_ca", p->medulla_ca, -100.0, 100.0)) ||
+        (r = check(err, "medulla_cb", p->medulla_cb, -100.0, 100.0)))
+        return r;
+    if ((p->medulla_a > 0.0) != (p->medulla_b > 0.0))
+        return plm_fail(err, PLM_ERR_INVALID,
+                        "fiber: medulla semi-axes (%g, %g) must both be 0 (no medulla) or both positive",
+                        p->medulla_a, p->medulla_b);
+    if (plm_fiber_has_medulla(p) && !(medulla_max_cortex_level(p) < 1.0))
+        return plm_fail(err, PLM_ERR_INVALID,
+                        "fiber: the medulla (semi-axes %g, %g, centre %g, %g) must lie strictly inside the cortex "
+                        "(semi-axes 1, %g): it pokes out",
+                        p->medulla_a, p->medulla_b, p->medulla_ca, p->medulla_cb, p->eccentricity);
+    return PLM_OK;
+}
+
+/* ---- optics -------------------------------------------------------------- */
+
+/* Unpolarised Fresnel reflectance for cos_i > 0 and eta = n_t / n_i; also
+ * returns cos_t (meaningless under total internal reflection, which gives 1). */
+static double fresnel(double cos_i, double eta, double *cos_t)
+{
+    double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1.0) {
+        *cos_t = 0.0;
+        return 1.0;
+    }
+    double ct = sqrt(1.0 - sin2_t);
+    double rs = (cos_i - eta * ct) / (cos_i + eta * ct);
+    double rp = (eta * cos_i - ct) / (eta * cos_i + ct);
+    *cos_t = ct;
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+/* Refraction of d through an interface with normal n on the incident side
+ * (n.d = -cos_i), n_i/n_t = ratio. */
+static vec3 refract(vec3 d, vec3 n, double cos_i, double cos_t, double ratio)
+{
+    return v3_madd(v3_scale(d, ratio), n, ratio * cos_i - cos_t);
+}
+
+static vec3 reflect(vec3 d, vec3 n) { return v3_madd(d, n, -2.0 * v3_dot(d, n)); }
+
+/* ---- geometry ------------------------------------------------------------ */
+
+typedef struct ellipse { double cx, cy, a, b; } ellipse;
+
+/* Outward unit normal (in the cross-section) at a point of the ellipse given
+ * in its unit-circle coordinates (X, Y). */
+static vec3 ellipse_normal(const ellipse *el, double X, double Y)
+{
+    double nx = X / el->a, ny = Y / el->b, inv = 1.0 / sqrt(nx * nx + ny * ny);
+    return v3(nx * inv, ny * inv, 0.0);
+}
+
+/* Distance along d from pos (inside or on the ellipse; on_boundary says
+ * which, so rounding cannot make the start point count as outside) to where
+ * the ray leaves it; 0 if it does not get anywhere (tangent). */
+static double ellipse_exit(const ellipse *el, vec2 pos, vec3 d, int on_boundary)
+{
+    double X = (pos.x - el->cx) / el->a, Y = (pos.y - el->cy) / el->b;
+    double DX = d.x / el->a, DY = d.y / el->b;
+    double A = DX * DX + DY * DY, B = X * DX + Y * DY;
+    double C = on_boundary ? 0.0 : fmin(X * X + Y * Y - 1.0, 0.0);
+    if (!(A > 0.0))
+        return 0.0; /* travelling along the axis: never reaches the boundary */
+    double root = sqrt(B * B - A * C);
+    return B <= 0.0 ? (root - B) / A : -C / (B + root); /* the two stable forms of the far root */
+}
+
+/* Distance along d from pos (outside the ellipse) to where the ray enters it,
+ * or INFINITY when it misses. */
+static double ellipse_enter(const ellipse *el, vec2 pos, vec3 d)
+{
+    double X = (pos.x - el->cx) / el->a, Y = (pos.y - el->cy) / el->b;
+    double DX = d.x / el->a, DY = d.y / el->b;
+    double A = DX * DX + DY * DY, B = X * DX + Y * DY, C = X * X + Y * Y - 1.0;
+    if (B >= 0.0 || C <= 0.0)
+        return INFINITY;
+    double disc = B * B - A * C;
+    return disc > 0.0 ? C / (sqrt(disc) - B) : INFINITY;
+}
+
+/* Puts a point that rounding moved off the ellipse back onto it; returns the
+ * unit-circle coordinates through X, Y. */
+static vec2 ellipse_snap(const ellipse *el, vec2 pos, double *X, double *Y)
+{
+    double x = (pos.x - el->cx) / el->a, y = (pos.y - el->cy) / el->b, inv = 1.0 / sqrt(x * x + y * y);
+    *X = x * inv;
+    *Y = y * inv;
+    return v2(el->cx + el->a * *X, el->cy + el->b * *Y);
+}
+
+/* ---- the tracer ---------------------------------------------------------- */
+
+/* A path inside the cortex. Its throughput is weight * tint * exp(-sigma_a length):
+ * Fresnel factors, medulla albedos and Beer-Lambert kept apart so the
+ * exponentials are only taken when a lobe is stored. */
+typedef struct fiber_path {
+    vec2 pos;
+    vec3 dir;
+    double weight;
+    rgb tint;
+    double length;
+} fiber_path;
+
+static rgb path_throughput(const plm_fiber_params *p, const fiber_path *path, double factor)
+{
+    return rgb_scale(rgb_mul(path->tint, rgb_exp_neg(rgb_scale(p->sigma_a, path->length))), path->weight * factor);
+}
+
+/* Where light from wo enters at offset h: fills the surface reflection as
+ * lobe 0 and starts the refracted path. */
+static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, double h, plm_fiber_lobe *lobe0,
+                  fiber_path *path)
+{
+    double proj = sqrt(wo.x * wo.x + wo.y * wo.y);
+    vec2 v = v2(wo.x / proj, wo.y / proj);  /* view direction projected in the cross-section */
+    vec2 side = v2(v.y, -v.x);              /* h increases along this (DESIGN 3.2) */
+    double e = cortex->b;
+    double half_width = sqrt(side.x * side.x + e * e * side.y * side.y); /* support function of the cortex */
+    vec3 d = v3_neg(wo);
+    /* In unit-circle coordinates the ray's discriminant is exactly A (1 - h^2). */
+    double X = h * half_width * side.x, Y = h * half_width * side.y / e, DX = d.x, DY = d.y / e;
+    double A = DX * DX + DY * DY, B = X * DX + Y * DY, root = sqrt(A * (1.0 - h * h));
+    double t = B > 0.0 ? -(B + root) / A : (X * X + Y * Y - 1.0) / (root - B); /* near root, stable */
+    double PX, PY;
+    path->pos = ellipse_snap(cortex, v2(h * half_width * side.x + t * d.x, h * half_width * side.y + t * d.y),
+                             &PX, &PY);
+    vec3 n = ellipse_normal(cortex, PX, PY);
+    double cos_i = fmax(-v3_dot(d, n), 0.0), cos_t;
+    double f = fresnel(cos_i, p->eta, &cos_t);
+    lobe0->dir = reflect(d, n);
+    lobe0->throughput = rgb_gray(f);
+    path->dir = refract(d, n, cos_i, cos_t, 1.0 / p->eta);
+    path->weight = 1.0 - f;
+    path->tint = rgb_gray(1.0);
+    path->length = 0.0;
+}
+
+/* Lambertian bounce off the medulla at path->pos. */
+static void medulla_bounce(const plm_fiber_params *p, const ellipse *medulla, plm_rng *rng, fiber_path *path)
+{
+    double X, Y;
+    path->pos = ellipse_snap(medulla, path->pos, &X, &Y);
+    frame f = frame_from_z(ellipse_normal(medulla, X, Y));
+    double u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
+    path->dir = v3_normalize(frame_to_world(&f, plm_sample_cosine_hemisphere(u1, u2)));
+    path->tint = rgb_mul(path->tint, p->medulla_reflectance);
+}
+
+int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes,
+                      int max_lobes, rgb *inside)
+{
+    if (inside)
+        *inside = rgb_gray(0.0);
+    if (max_lobes < 1 || !(wo.x * wo.x + wo.y * wo.y > 0.0))
+        return 0; /* light along the axis never meets the cross-section */
+    ellipse cortex = {0.0, 0.0, 1.0, p->eccentricity};
+    ellipse medulla = {p->medulla_ca, p->medulla_cb, p->medulla_a, p->medulla_b};
+    int has_medulla = plm_fiber_has_medulla(p);
+    fiber_path path;
+    enter(p, &cortex, wo, plm_clamp(h, -1.0, 1.0), &lobes[0], &path);
+    int count = 1, on_cortex = 1;
+    const int max_interactions = 16 * max_lobes + 64;
+    for (int interaction = 0; count < max_lobes && path.weight > 0.0 && interaction < max_interactions;
+         ++interaction) {
+        double t = ellipse_exit(&cortex, path.pos, path.dir, on_cortex);
+        if (!(t > 0.0))
+            break; /* tangent or axial: the path gets nowhere (probability zero) */
+        if (has_medulla && on_cortex) {
+            double tm = ellipse_enter(&medulla, path.pos, path.dir);
+            if (tm < t) {
+                path.length += tm;
+                path.pos = v2(path.pos.x + tm * path.dir.x, path.pos.y + tm * path.dir.y);
+                medulla_bounce(p, &medulla, rng, &path);
+                on_cortex = 0;
+                if (rgb_is_black(path.tint))
+                    break;
+                continue;
+            }
+        }
+        path.length += t;
+        double X, Y;
+        path.pos = ellipse_snap(&cortex, v2(path.pos.x + t * path.dir.x, path.pos.y + t * path.dir.y), &X, &Y);
+        on_cortex = 1;
+        vec3 n = ellipse_normal(&cortex, X, Y);
+        double cos_i = fmax(v3_dot(path.dir, n), 0.0), cos_t;
+        double f = fresnel(cos_i, 1.0 / p->eta, &cos_t);
+        if (f < 1.0) { /* part leaves the cortex: a lobe */
+            lobes[count].dir = v3_normalize(refract(path.dir, v3_neg(n), cos_i, cos_t, p->eta));
+            lobes[count].throughput = path_throughput(p, &path, 1.0 - f);
+            ++count;
+        }
+        path.weight *= f;
+        path.dir = reflect(path.dir, n);
+    }
+    if (inside)
+        *inside = path_throughput(p, &path, 1.0);
+    return count;
+}
+
+int plm_fiber_trace(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes)
+{
+    return plm_fiber_trace_n(p, wo, h, rng, lobes, p->lobes, NULL);
+}
