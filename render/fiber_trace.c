@@ -211,7 +211,10 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
     /* In unit-circle coordinates the ray's discriminant is exactly A (1 - h^2). */
     double X = h * half_width * side.x, Y = h * half_width * side.y / e, DX = d.x, DY = d.y / e;
     double A = DX * DX + DY * DY, B = X * DX + Y * DY, root = sqrt(A * (1.0 - h * h));
-    double t = B > 0.0 ? -(B + root) / A : (X * X + Y * Y - 1.0) / (root - B); /* near root, stable */
+    /* The near root. Its absolute error, all the snap below needs, is about
+     * eps (|B| + root) / A; the "stable" form C / (root - B) would divide
+     * rounding noise by rounding noise at the silhouettes. */
+    double t = -(B + root) / A;
     double PX, PY;
     path->pos = ellipse_snap(cortex, v2(h * half_width * side.x + t * d.x, h * half_width * side.y + t * d.y),
                              &PX, &PY);

@@ -107,11 +107,218 @@ static void elliptical_fiber_vertex_rays(void **state)
     }
 }
 
+/* The Fig. 7 fibers: circular, elliptical (e = 1.6), and e = 1.6 with a
+ * concentric (r = 0.6) or off-centre ((-0.1, 0.1)) medulla. */
+static plm_fiber_params fiber_variant(int variant, double eccentricity, rgb medulla_reflectance)
+{
+    plm_fiber_params p;
+    plm_fiber_params_default(&p);
+    p.eta = 1.53;
+    p.eccentricity = eccentricity;
+    if (variant >= 2) {
+        p.medulla_a = p.medulla_b = 0.6;
+        p.medulla_ca = variant == 3 ? -0.1 : 0.0;
+        p.medulla_cb = variant == 3 ? 0.1 : 0.0;
+        p.medulla_reflectance = medulla_reflectance;
+    }
+    assert_int_equal(plm_fiber_params_validate(&p, NULL), PLM_OK);
+    return p;
+}
+
+/* A random view direction (uniform on the sphere) and entry offset. */
+static void random_query(plm_rng *rng, vec3 *wo, double *h)
+{
+    double z = 2.0 * plm_rng_uniform(rng) - 1.0, phi = PLM_TWO_PI * plm_rng_uniform(rng);
+    *wo = plm_fiber_direction(asin(z), phi);
+    *h = 2.0 * plm_rng_uniform(rng) - 1.0;
+}
+
+static double lobe_sum(const plm_fiber_lobe *lobes, int n, int channel)
+{
+    double s = 0.0;
+    for (int k = 0; k < n; ++k)
+        s += channel == 0 ? lobes[k].throughput.r : channel == 1 ? lobes[k].throughput.g : lobes[k].throughput.b;
+    return s;
+}
+
+static void assert_valid_lobes(const plm_fiber_lobe *lobes, int n)
+{
+    for (int k = 0; k < n; ++k) {
+        rgb t = lobes[k].throughput;
+        assert_true(rgb_is_finite(t));
+        assert_true(t.r >= 0.0 && t.g >= 0.0 && t.b >= 0.0 && rgb_max(t) <= 1.0);
+        assert_true(fabs(v3_length(lobes[k].dir) - 1.0) < 1e-9);
+    }
+}
+
+/* Without absorption nothing is lost: the lobes and what is still inside
+ * after the last one add up to 1 exactly, for any number of lobes. */
+static void energy_is_conserved_without_absorption(void **state)
+{
+    (void)state;
+    static plm_fiber_lobe lobes[PLM_FIBER_MAX_LOBES];
+    const int counts[] = {1, 2, 5, 40};
+    for (int variant = 0; variant < 4; ++variant) {
+        plm_fiber_params p = fiber_variant(variant, variant == 0 ? 1.0 : 1.6, rgb_gray(1.0));
+        plm_rng rng;
+        plm_rng_seed(&rng, 11, (uint64_t)variant);
+        for (int i = 0; i < 4000; ++i) {
+            vec3 wo;
+            double h;
+            random_query(&rng, &wo, &h);
+            rgb inside;
+            int n = plm_fiber_trace_n(&p, wo, h, &rng, lobes, counts[i % 4], &inside);
+            assert_true(n >= 1 && n <= counts[i % 4]);
+            assert_valid_lobes(lobes, n);
+            assert_true(rgb_is_finite(inside) && inside.r >= 0.0 && inside.r <= 1.0);
+            double total = lobe_sum(lobes, n, 0) + inside.r;
+            if (fabs(total - 1.0) > 1e-9) {
+                fprintf(stderr, "variant %d query %d: lobes + inside = %.15f\n", variant, i, total);
+                fail();
+            }
+        }
+    }
+}
+
+/* h = +-1 are the silhouettes (DESIGN 3.2): light grazes the cortex there and
+ * is reflected whole, whatever the eccentricity. */
+static void silhouettes_are_grazing(void **state)
+{
+    (void)state;
+    const double eccentricities[] = {0.3, 1.0, 1.6, 4.0};
+    for (int e = 0; e < 4; ++e) {
+        plm_fiber_params p = fiber_variant(1, eccentricities[e], rgb_gray(1.0));
+        for (int j = 0; j < 24; ++j) {
+            vec3 wo = plm_fiber_direction(plm_radians(-60.0 + 5.0 * j), plm_radians(15.0 * j));
+            for (int side = -1; side <= 1; side += 2) {
+                plm_fiber_lobe lobes[5];
+                assert_true(plm_fiber_trace(&p, wo, side, NULL, lobes) >= 1);
+                assert_true(lobes[0].throughput.r > 1.0 - 1e-5);
+            }
+        }
+    }
+}
+
+/* Mean lobe energy over random (direction, h) with and without absorption-free
+ * white off-centre medulla: five lobes hold >= 97% and are within 1% of 1000
+ * lobes (the paper's Fig. 13). The same random numbers drive both counts, so
+ * the first five lobes are the same paths. */
+static void five_lobes_hold_the_energy(void **state)
+{
+    (void)state;
+    static plm_fiber_lobe lobes[PLM_FIBER_MAX_LOBES];
+    const int variants[] = {1, 3};
+    for (int v = 0; v < 2; ++v) {
+        plm_fiber_params p = fiber_variant(variants[v], 1.6, rgb_gray(1.0));
+        double sum5 = 0.0, sum1000 = 0.0;
+        const int n_queries = 8000;
+        for (int i = 0; i < n_queries; ++i) {
+            double e[2];
+            for (int run = 0; run < 2; ++run) {
+                plm_rng rng;
+                plm_rng_seed(&rng, 5, (uint64_t)i);
+                vec3 wo;
+                double h;
+                random_query(&rng, &wo, &h);
+                int n = plm_fiber_trace_n(&p, wo, h, &rng, lobes, run ? 1000 : 5, NULL);
+                assert_valid_lobes(lobes, n);
+                e[run] = lobe_sum(lobes, n, 0);
+            }
+            assert_true(e[0] <= e[1] + 1e-12 && e[1] <= 1.0 + 1e-12);
+            sum5 += e[0];
+            sum1000 += e[1];
+        }
+        double mean5 = sum5 / n_queries, mean1000 = sum1000 / n_queries;
+        fprintf(stderr, "variant %d: mean energy 5 lobes %.5f, 1000 lobes %.5f\n", variants[v], mean5, mean1000);
+        assert_true(mean5 >= 0.97);
+        assert_true((mean1000 - mean5) / mean1000 < 0.01);
+    }
+}
+
+/* Paths do not depend on sigma_a, so with the same random numbers every
+ * query's energy falls as absorption grows, and the mean falls strictly. */
+static void absorption_only_darkens(void **state)
+{
+    (void)state;
+    const double scales[] = {0.0, 0.05, 0.2, 0.5, 1.0, 3.0, 10.0};
+    const rgb base = {0.133, 1.967, 2.1};
+    plm_fiber_params p = fiber_variant(3, 1.6, rgb_gray(0.8));
+    double previous_mean[3] = {INFINITY, INFINITY, INFINITY};
+    double previous[500][3];
+    for (int s = 0; s < 7; ++s) {
+        p.sigma_a = rgb_scale(base, scales[s]);
+        double mean[3] = {0, 0, 0};
+        for (int i = 0; i < 500; ++i) {
+            plm_rng rng;
+            plm_rng_seed(&rng, 9, (uint64_t)i);
+            vec3 wo;
+            double h;
+            random_query(&rng, &wo, &h);
+            plm_fiber_lobe lobes[5];
+            int n = plm_fiber_trace(&p, wo, h, &rng, lobes);
+            for (int c = 0; c < 3; ++c) {
+                double e = lobe_sum(lobes, n, c);
+                if (s > 0)
+                    assert_true(e <= previous[i][c] + 1e-15);
+                previous[i][c] = e;
+                mean[c] += e / 500;
+            }
+        }
+        for (int c = 0; c < 3; ++c) {
+            assert_true(mean[c] < previous_mean[c]);
+            previous_mean[c] = mean[c];
+        }
+    }
+}
+
+/* A black medulla only removes light: each path is the medulla-free path up
+ * to where it meets the medulla, and stops there; a white medulla only adds. */
+static void black_medulla_only_removes_energy(void **state)
+{
+    (void)state;
+    plm_fiber_params none = fiber_variant(1, 1.6, rgb_gray(0.0));
+    plm_fiber_params black = fiber_variant(3, 1.6, rgb_gray(0.0));
+    plm_fiber_params white = fiber_variant(3, 1.6, rgb_gray(1.0));
+    none.sigma_a = black.sigma_a = white.sigma_a = rgb_make(0.133, 1.967, 2.1);
+    int shortened = 0;
+    for (int i = 0; i < 4000; ++i) {
+        plm_fiber_lobe lobes_none[5], lobes_black[5], lobes_white[5];
+        int n[3];
+        const plm_fiber_params *ps[3] = {&none, &black, &white};
+        plm_fiber_lobe *out[3] = {lobes_none, lobes_black, lobes_white};
+        for (int k = 0; k < 3; ++k) {
+            plm_rng rng;
+            plm_rng_seed(&rng, 3, (uint64_t)i);
+            vec3 wo;
+            double h;
+            random_query(&rng, &wo, &h);
+            n[k] = plm_fiber_trace(ps[k], wo, h, &rng, out[k]);
+        }
+        assert_true(n[1] <= n[0]);
+        for (int k = 0; k < n[1]; ++k) {
+            assert_true(v3_length(v3_sub(lobes_black[k].dir, lobes_none[k].dir)) < 1e-12);
+            assert_true(rgb_max(rgb_sub(lobes_black[k].throughput, lobes_none[k].throughput)) == 0.0);
+            assert_true(rgb_max(rgb_sub(lobes_black[k].throughput, lobes_white[k].throughput)) == 0.0);
+        }
+        for (int c = 0; c < 3; ++c) {
+            assert_true(lobe_sum(lobes_black, n[1], c) <= lobe_sum(lobes_none, n[0], c));
+            assert_true(lobe_sum(lobes_black, n[1], c) <= lobe_sum(lobes_white, n[2], c));
+        }
+        shortened += n[1] < n[0];
+    }
+    assert_true(shortened > 400); /* the medulla is hit often enough for the test to mean something */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(circular_fiber_matches_closed_form),
         cmocka_unit_test(elliptical_fiber_vertex_rays),
+        cmocka_unit_test(energy_is_conserved_without_absorption),
+        cmocka_unit_test(silhouettes_are_grazing),
+        cmocka_unit_test(five_lobes_hold_the_energy),
+        cmocka_unit_test(absorption_only_darkens),
+        cmocka_unit_test(black_medulla_only_removes_energy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
