@@ -13,6 +13,7 @@ typedef struct command {
 
 static const command commands[] = {
     {"probe", cmd_probe, "answer questions about the optical models without rendering (CSV and plots)"},
+    {"render", cmd_render, "render a scene file to a linear EXR and a tone-mapped PNG (path tracer)"},
     {"bench", cmd_bench, "print performance figures (ns per call, samples per second, memory)"},
 };
 

@@ -1,0 +1,73 @@
+/* The material interface of the path tracer (pbrt-style, small).
+ *
+ * At a surface hit the renderer asks the material two things:
+ *  - plm_material_transmission(hit, w): the probability that a ray arriving
+ *    from direction w (unit, pointing back toward where the ray came from)
+ *    passes straight through. This is the delta transmission of the feather
+ *    (paper Eq. 4, w_t) handled as fractional visibility (DESIGN 5): camera
+ *    and bounce rays continue straight with this probability, shadow rays
+ *    are attenuated by it.
+ *  - plm_material_bsdf(hit, wo, rng): the BSDF of the other branch, the
+ *    light that does not pass: f_s without its delta term, divided by
+ *    (1 - w_t(wo)), so it conserves energy on its own.
+ * A plm_bsdf is prepared once for the view direction wo (a feather traces
+ * its fiber lobe sets here, with rng); eval, pdf and sample are then
+ * deterministic functions of wi. */
+#ifndef PLUMAGE_RENDER_BSDF_H
+#define PLUMAGE_RENDER_BSDF_H
+
+#include "common/rng.h"
+#include "common/vec.h"
+#include "render/scene.h"
+
+/* What a material needs to know about the surface at a hit, in world space. */
+typedef struct plm_hit {
+    vec3 p;          /* position */
+    vec3 ng;         /* geometric normal, unit, on the mesh's front (counter-clockwise) side */
+    vec3 n;          /* shading normal, unit, same side as ng: the feather's dorsal side */
+    vec3 dpdu, dpdv; /* surface derivatives; for vanes dP/dv points to the feather's tip */
+    vec2 uv;
+    rgb tint;        /* per-instance colour variation */
+    const plm_material *material;
+} plm_hit;
+
+typedef struct plm_bsdf_sample_rec {
+    vec3 wi;    /* unit, pointing away from the surface */
+    double pdf; /* solid-angle density, > 0 */
+    rgb weight; /* eval(wi) / pdf */
+} plm_bsdf_sample_rec;
+
+struct plm_bsdf;
+typedef struct plm_bsdf_ops {
+    /* f(wo, wi) |cos theta_i|: the cosine is included so a BSDF may cancel it (Eq. 4). */
+    rgb (*eval)(const struct plm_bsdf *b, vec3 wi);
+    double (*pdf)(const struct plm_bsdf *b, vec3 wi);
+    /* Returns 0 when no direction could be sampled. */
+    int (*sample)(const struct plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s);
+} plm_bsdf_ops;
+
+#define PLM_BSDF_STATE_BYTES 16384
+
+typedef struct plm_bsdf {
+    const plm_bsdf_ops *ops;
+    vec3 wo;
+    frame shading;  /* z = shading normal turned toward wo */
+    rgb albedo;     /* diffuse */
+    /* Room for a material's prepared state (the feather's masking and lobe sets). */
+    _Alignas(16) unsigned char state[PLM_BSDF_STATE_BYTES];
+} plm_bsdf;
+
+static inline rgb plm_bsdf_eval(const plm_bsdf *b, vec3 wi) { return b->ops->eval(b, wi); }
+static inline double plm_bsdf_pdf(const plm_bsdf *b, vec3 wi) { return b->ops->pdf(b, wi); }
+static inline int plm_bsdf_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
+{
+    return b->ops->sample(b, u0, u1, u2, s);
+}
+
+double plm_material_transmission(const plm_hit *hit, vec3 w);
+void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out);
+
+/* Lambertian reflection on the side of wo (two-sided), albedo in [0, 1]. */
+void plm_diffuse_bsdf(const plm_hit *hit, vec3 wo, rgb albedo, plm_bsdf *out);
+
+#endif

@@ -1,0 +1,104 @@
+#include "render/feather_texture.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "common/image_io.h"
+
+static plm_region decode_region(float value)
+{
+    if (value < 0.25f)
+        return PLM_REGION_BACKGROUND;
+    return value < 0.75f ? PLM_REGION_RACHIS : PLM_REGION_VANE;
+}
+
+plm_result plm_feather_texture_from_pixels(int width, int height, float *pixels, plm_feather_texture *out,
+                                           plm_error *err)
+{
+    out->width = width;
+    out->height = height;
+    out->pixels = pixels;
+    out->region = malloc((size_t)width * (size_t)height);
+    if (!out->region) {
+        free(pixels);
+        out->pixels = NULL;
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d feather texture", width, height);
+    }
+    for (long i = 0; i < (long)width * height; ++i)
+        out->region[i] = (unsigned char)decode_region(pixels[3 * i + 2]);
+    return PLM_OK;
+}
+
+plm_result plm_feather_texture_read(const char *path, plm_feather_texture *out, plm_error *err)
+{
+    int w, h, c;
+    float *pixels;
+    plm_result rc = plm_image_read(path, &w, &h, &c, &pixels, err);
+    if (rc != PLM_OK)
+        return rc;
+    if (c < 3) {
+        free(pixels);
+        return plm_fail(err, PLM_ERR_INVALID,
+                        "%s: a feather texture needs 3 channels (cos, sin, region), this image has %d", path, c);
+    }
+    if (c > 3) { /* keep the first three channels */
+        for (long i = 0; i < (long)w * h; ++i)
+            for (int k = 0; k < 3; ++k)
+                pixels[3 * i + k] = pixels[(long)c * i + k];
+    }
+    return plm_feather_texture_from_pixels(w, h, pixels, out, err);
+}
+
+void plm_feather_texture_free(plm_feather_texture *t)
+{
+    free(t->pixels);
+    free(t->region);
+    t->pixels = NULL;
+    t->region = NULL;
+}
+
+/* Continuous texel coordinates of uv: texel centres sit at integers. */
+static void texel_coords(const plm_feather_texture *t, vec2 uv, double *x, double *y)
+{
+    *x = plm_clamp(uv.x, 0.0, 1.0) * t->width - 0.5;
+    *y = (1.0 - plm_clamp(uv.y, 0.0, 1.0)) * t->height - 0.5;
+}
+
+static long texel_index(const plm_feather_texture *t, long x, long y)
+{
+    x = x < 0 ? 0 : (x >= t->width ? t->width - 1 : x);
+    y = y < 0 ? 0 : (y >= t->height ? t->height - 1 : y);
+    return y * t->width + x;
+}
+
+plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv)
+{
+    double x, y;
+    texel_coords(t, uv, &x, &y);
+    return (plm_region)t->region[texel_index(t, lround(x), lround(y))];
+}
+
+vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
+{
+    double x, y;
+    texel_coords(t, uv, &x, &y);
+    long nearest = texel_index(t, lround(x), lround(y));
+    long x0 = (long)floor(x), y0 = (long)floor(y);
+    double fx = x - x0, fy = y - y0;
+    vec2 sum = v2(0.0, 0.0);
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            long i = texel_index(t, x0 + dx, y0 + dy);
+            if (t->region[i] != t->region[nearest])
+                continue;
+            double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
+            sum = v2_add(sum, v2_scale(v2(2.0 * t->pixels[3 * i] - 1.0, 2.0 * t->pixels[3 * i + 1] - 1.0), w));
+        }
+    double len = v2_length(sum);
+    if (len > 1e-6)
+        return v2_scale(sum, 1.0 / len);
+    /* Opposite directions cancelled (a texture error) or a zero texel: use the nearest alone. */
+    vec2 d = v2(2.0 * t->pixels[3 * nearest] - 1.0, 2.0 * t->pixels[3 * nearest + 1] - 1.0);
+    len = v2_length(d);
+    return len > 1e-6 ? v2_scale(d, 1.0 / len) : v2(0.0, 1.0);
+}

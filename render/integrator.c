@@ -1,0 +1,169 @@
+#include "render/integrator.h"
+
+#include "render/sampling.h"
+
+/* A ray passes at most this many partly transparent surfaces: beyond that
+ * (a pathological stack of sheets) it counts as absorbed. */
+#define MAX_PASSES 512
+
+typedef enum segment_end { END_ABSORBED, END_ESCAPED, END_LIGHT, END_SURFACE } segment_end;
+
+typedef struct segment {
+    plm_hit hit;  /* END_SURFACE */
+    int light;    /* END_LIGHT: index of the area light */
+    rgb emitted;  /* END_LIGHT */
+} segment;
+
+/* Follows o + t d until it scatters off a surface, hits an area light or
+ * escapes; surfaces it meets are passed with their transmission probability. */
+static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, plm_rng *rng, segment *seg)
+{
+    for (int pass = 0; pass < MAX_PASSES; ++pass) {
+        double t_surface = INFINITY, t;
+        int surface = plm_world_intersect(w, o, d, INFINITY, &t_surface, &seg->hit);
+        int light = -1;
+        for (int i = 0; i < w->light_count; ++i) {
+            rgb le;
+            if (plm_light_intersect(&w->lights[i], o, d, t_surface, &t, &le)) {
+                t_surface = t;
+                light = i;
+                seg->emitted = le;
+            }
+        }
+        if (light >= 0) {
+            seg->light = light;
+            return END_LIGHT;
+        }
+        if (!surface)
+            return END_ESCAPED;
+        double pass_probability = plm_material_transmission(&seg->hit, v3_neg(d));
+        if (!(pass_probability > 0.0 && plm_rng_uniform(rng) < pass_probability))
+            return END_SURFACE;
+        o = plm_world_offset(w, &seg->hit, d);
+    }
+    return END_ABSORBED;
+}
+
+double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist)
+{
+    double tmax = dist < INFINITY ? dist * (1.0 - 1e-6) - w->epsilon : INFINITY;
+    if (!(tmax > 0.0))
+        return 1.0;
+    if (!w->transmissive)
+        return plm_world_occluded(w, o, d, tmax) ? 0.0 : 1.0;
+    double transmittance = 1.0, t;
+    plm_hit hit;
+    for (int pass = 0; pass < MAX_PASSES; ++pass) {
+        if (!plm_world_intersect(w, o, d, tmax, &t, &hit))
+            return transmittance;
+        transmittance *= plm_material_transmission(&hit, v3_neg(d));
+        if (transmittance <= 0.0)
+            return 0.0;
+        o = plm_world_offset(w, &hit, d);
+        tmax -= t;
+    }
+    return 0.0;
+}
+
+/* Radiance an escaped or light-hitting ray brings back, MIS-weighted
+ * against light sampling from the previous vertex when that could have found it. */
+static rgb emission_weight(const plm_world *w, int light, rgb le, vec3 prev_p, vec3 d, double prev_pdf,
+                           int counted_fully, plm_estimator est)
+{
+    if (counted_fully || est == PLM_ESTIMATOR_BSDF)
+        return le;
+    if (est == PLM_ESTIMATOR_NEE)
+        return rgb_gray(0.0);
+    double light_pdf = plm_light_pdf(&w->lights[light], prev_p, d) / w->light_count;
+    return rgb_scale(le, plm_power_heuristic(prev_pdf, light_pdf));
+}
+
+/* Next-event estimation: one light chosen uniformly, one sample of it. */
+static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *bsdf, plm_rng *rng,
+                        plm_estimator est)
+{
+    int li = (int)(plm_rng_uniform(rng) * w->light_count);
+    li = li < w->light_count ? li : w->light_count - 1;
+    double u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
+    plm_light_sample ls;
+    if (!plm_light_sample_from(&w->lights[li], hit->p, u1, u2, &ls) || rgb_is_black(ls.radiance))
+        return rgb_gray(0.0);
+    rgb f = plm_bsdf_eval(bsdf, ls.wi);
+    if (rgb_is_black(f))
+        return rgb_gray(0.0);
+    double visible = plm_shadow_transmittance(w, plm_world_offset(w, hit, ls.wi), ls.wi, ls.dist);
+    if (visible <= 0.0)
+        return rgb_gray(0.0);
+    double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
+    double mis = ls.is_delta || est == PLM_ESTIMATOR_NEE ? 1.0
+                                                         : plm_power_heuristic(light_pdf, plm_bsdf_pdf(bsdf, ls.wi));
+    return rgb_scale(rgb_mul(f, ls.radiance), visible * mis / light_pdf);
+}
+
+rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est, plm_rng *rng)
+{
+    rgb radiance = rgb_gray(0.0), beta = rgb_gray(1.0);
+    vec3 prev_p = o;
+    double prev_pdf = 0.0;
+    segment seg;
+    plm_bsdf bsdf;
+    for (int depth = 0;; ++depth) {
+        segment_end end = trace_segment(w, o, d, rng, &seg);
+        if (end == END_ABSORBED)
+            break;
+        if (end == END_LIGHT) {
+            rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est);
+            radiance = rgb_add(radiance, rgb_mul(beta, le));
+            break;
+        }
+        if (end == END_ESCAPED) {
+            for (int i = 0; i < w->light_count; ++i)
+                if (plm_light_is_infinite(&w->lights[i])) {
+                    rgb le = plm_light_environment(&w->lights[i], d);
+                    le = emission_weight(w, i, le, prev_p, d, prev_pdf, depth == 0, est);
+                    radiance = rgb_add(radiance, rgb_mul(beta, le));
+                }
+            break;
+        }
+        if (depth >= max_depth)
+            break;
+        vec3 wo = v3_neg(d);
+        plm_material_bsdf(&seg.hit, wo, rng, &bsdf);
+        if (est != PLM_ESTIMATOR_BSDF && w->light_count > 0)
+            radiance = rgb_add(radiance, rgb_mul(beta, direct_light(w, &seg.hit, &bsdf, rng, est)));
+        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
+        plm_bsdf_sample_rec s;
+        if (!plm_bsdf_sample(&bsdf, u0, u1, u2, &s))
+            break;
+        beta = rgb_mul(beta, s.weight);
+        prev_pdf = s.pdf;
+        prev_p = seg.hit.p;
+        d = s.wi;
+        o = plm_world_offset(w, &seg.hit, d);
+        /* Russian roulette once paths have a few bounces; unbiased by the 1/(1-q) reweighting. */
+        if (depth >= 3) {
+            double q = fmax(0.05, 1.0 - rgb_max(beta));
+            if (plm_rng_uniform(rng) < q)
+                break;
+            beta = rgb_scale(beta, 1.0 / (1.0 - q));
+        }
+    }
+    return radiance;
+}
+
+int plm_path_trace_only(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_rng *rng)
+{
+    int rays = 0;
+    double t;
+    plm_hit hit;
+    for (int depth = 0; depth <= max_depth; ++depth) {
+        ++rays;
+        if (!plm_world_intersect(w, o, d, INFINITY, &t, &hit))
+            break;
+        vec3 n = v3_dot(d, hit.ng) < 0.0 ? hit.ng : v3_neg(hit.ng);
+        frame f = frame_from_z(n);
+        d = frame_to_world(&f, plm_sample_cosine_hemisphere(plm_rng_uniform(rng), plm_rng_uniform(rng)));
+        o = plm_world_offset(w, &hit, d);
+    }
+    return rays;
+}

@@ -1,0 +1,32 @@
+/* Unidirectional path tracing with next-event estimation, multiple
+ * importance sampling (power heuristic) and Russian roulette. Delta
+ * transmission is fractional visibility (DESIGN 5): a ray that meets a
+ * surface passes straight on with the material's plm_material_transmission,
+ * and shadow rays are attenuated by the same probability. */
+#ifndef PLUMAGE_RENDER_INTEGRATOR_H
+#define PLUMAGE_RENDER_INTEGRATOR_H
+
+#include "common/rng.h"
+#include "render/world.h"
+
+typedef enum plm_estimator {
+    PLM_ESTIMATOR_MIS = 0,  /* light and BSDF sampling combined (the default) */
+    PLM_ESTIMATOR_NEE = 1,  /* light sampling only (delta lights and smooth BSDFs only) */
+    PLM_ESTIMATOR_BSDF = 2  /* BSDF sampling only: emission found by bounce rays (misses delta lights) */
+} plm_estimator;
+
+/* Radiance arriving at o from direction -d along the ray o + t d.
+ * max_depth is the most scattering events a path may have (0: emitters seen directly). */
+rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator estimator, plm_rng *rng);
+
+/* The same kind of rays with no shading at all (cosine bounces off every
+ * hit, no lights, no materials): the cost of ray traversal alone, for the
+ * shading-overhead figure of `plumage bench render`. Returns the ray count. */
+int plm_path_trace_only(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_rng *rng);
+
+/* Fraction of light travelling from p (a surface point, ray already
+ * offset) along d that reaches distance dist: 0 behind an opaque surface,
+ * the product of the transmissions of the surfaces crossed otherwise. */
+double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist);
+
+#endif

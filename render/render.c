@@ -1,0 +1,243 @@
+/* Film, tiles, threads, passes, progress and output. */
+#include "render/render.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "common/image_io.h"
+
+#define TILE 16
+#define MAX_PASS_SAMPLES 16
+#define MAX_PASSES 128
+
+typedef struct job {
+    const plm_world *world;
+    const plm_render_options *opt;
+    plm_film *film;
+    double *sum;               /* width * height * 3 running sums */
+    int spp, max_depth;
+    uint64_t seed;
+    int tiles_x, tile_count;
+    int pass_count;
+    int pass_start[MAX_PASSES + 1];        /* first sample index of each pass; pass_start[pass_count] = spp */
+    atomic_int next_tile[MAX_PASSES];  /* per pass */
+    atomic_llong samples_done;
+    atomic_llong rays;
+    atomic_llong nonfinite;
+    atomic_int stop;           /* set once a cancel was seen: no new tiles */
+    atomic_int finished_threads;
+    pthread_barrier_t barrier;
+} job;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Passes of 1, 1, 2, 4, 8, ... samples per pixel up to a cap: an early full
+ * image, then steady work per pass, and never more than MAX_PASSES passes. */
+static void plan_passes(job *j)
+{
+    int cap = j->spp / (MAX_PASSES - 16) > MAX_PASS_SAMPLES ? j->spp / (MAX_PASSES - 16) : MAX_PASS_SAMPLES;
+    int n = 0, s = 0, size = 1;
+    j->pass_start[0] = 0;
+    while (s < j->spp) {
+        int step = n == MAX_PASSES - 1 || size > j->spp - s ? j->spp - s : size;
+        s += step;
+        j->pass_start[++n] = s;
+        if (n >= 2)
+            size = 2 * size > cap ? cap : 2 * size;
+    }
+    j->pass_count = n;
+}
+
+static void render_tile(job *j, int tile, int s0, int s1)
+{
+    const plm_world *w = j->world;
+    int width = j->film->width, height = j->film->height;
+    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
+    long long rays = 0, bad = 0;
+    for (int y = y0; y < y0 + TILE && y < height; ++y)
+        for (int x = x0; x < x0 + TILE && x < width; ++x) {
+            long pixel = (long)y * width + x;
+            double *acc = j->sum + 3 * pixel;
+            for (int s = s0; s < s1; ++s) {
+                plm_rng rng;
+                plm_rng_seed(&rng, plm_hash64(j->seed, (uint64_t)pixel, (uint64_t)s), 0);
+                double fx = x + plm_rng_uniform(&rng), fy = y + plm_rng_uniform(&rng);
+                double u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng);
+                vec3 o, d;
+                plm_camera_ray(&w->camera, fx, fy, u1, u2, &o, &d);
+                if (j->opt->trace_only) {
+                    rays += plm_path_trace_only(w, o, d, j->max_depth, &rng);
+                    continue;
+                }
+                rgb l = plm_path_radiance(w, o, d, j->max_depth, j->opt->estimator, &rng);
+                if (!rgb_is_finite(l)) {
+                    ++bad;
+                    continue;
+                }
+                acc[0] += l.r, acc[1] += l.g, acc[2] += l.b;
+            }
+            j->film->samples[pixel] += s1 - s0;
+        }
+    long long pixels = (long long)(x0 + TILE < width ? TILE : width - x0) * (y0 + TILE < height ? TILE : height - y0);
+    atomic_fetch_add(&j->samples_done, pixels * (s1 - s0));
+    atomic_fetch_add(&j->rays, rays);
+    atomic_fetch_add(&j->nonfinite, bad);
+}
+
+static void *worker(void *arg)
+{
+    job *j = arg;
+    for (int p = 0; p < j->pass_count; ++p) {
+        for (;;) {
+            if (j->opt->cancel && *j->opt->cancel)
+                atomic_store(&j->stop, 1);
+            if (atomic_load(&j->stop))
+                break;
+            int tile = atomic_fetch_add(&j->next_tile[p], 1);
+            if (tile >= j->tile_count)
+                break;
+            render_tile(j, tile, j->pass_start[p], j->pass_start[p + 1]);
+        }
+        /* Passes in order: a pixel's samples are then always summed in index order. */
+        pthread_barrier_wait(&j->barrier);
+        if (atomic_load(&j->stop))
+            break;
+    }
+    atomic_fetch_add(&j->finished_threads, 1);
+    return NULL;
+}
+
+static void draw_progress(job *j, double elapsed, int final)
+{
+    long long total = (long long)j->film->width * j->film->height * j->spp;
+    long long done = atomic_load(&j->samples_done);
+    double fraction = total ? (double)done / total : 1.0, rate = elapsed > 0 ? done / elapsed : 0.0;
+    double left = rate > 0 ? (total - done) / rate : 0.0;
+    char bar[31];
+    int filled = (int)(fraction * 30);
+    for (int i = 0; i < 30; ++i)
+        bar[i] = i < filled ? '#' : '.';
+    bar[30] = '\0';
+    fprintf(stderr, "\r[%s] %5.1f%%  %.3g samples/s  %.0f s left   %s", bar, 100.0 * fraction, rate, left,
+            final ? "\n" : "");
+    fflush(stderr);
+}
+
+static int default_threads(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
+plm_result plm_render_world(const plm_world *world, const plm_render_options *opt, plm_film *film,
+                            plm_error *err)
+{
+    const plm_film_desc *fd = &world->scene->film;
+    memset(film, 0, sizeof *film);
+    film->width = fd->width;
+    film->height = fd->height;
+    film->threads = opt->threads > 0 ? opt->threads : default_threads();
+    size_t pixels = (size_t)film->width * film->height;
+    job *j = calloc(1, sizeof *j);
+    film->rgb = calloc(pixels * 3, sizeof *film->rgb);
+    film->samples = calloc(pixels, sizeof *film->samples);
+    pthread_t *threads = calloc((size_t)film->threads, sizeof *threads);
+    if (j)
+        j->sum = calloc(pixels * 3, sizeof *j->sum);
+    if (!j || !j->sum || !film->rgb || !film->samples || !threads) {
+        if (j)
+            free(j->sum);
+        free(j);
+        free(threads);
+        plm_film_free(film);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d film", film->width, film->height);
+    }
+    j->world = world;
+    j->opt = opt;
+    j->film = film;
+    j->spp = opt->spp > 0 ? opt->spp : fd->spp;
+    j->max_depth = opt->max_depth > 0 ? opt->max_depth : (opt->max_depth < 0 ? 0 : fd->max_depth);
+    j->seed = opt->seed > 0 ? (uint64_t)opt->seed : (opt->seed < 0 ? 0 : fd->seed);
+    j->tiles_x = (film->width + TILE - 1) / TILE;
+    j->tile_count = j->tiles_x * ((film->height + TILE - 1) / TILE);
+    plan_passes(j);
+    pthread_barrier_init(&j->barrier, NULL, (unsigned)film->threads);
+
+    double t0 = now_seconds(), last_draw = t0;
+    int started = 0;
+    for (; started < film->threads; ++started)
+        if (pthread_create(&threads[started], NULL, worker, j) != 0)
+            break;
+    if (started < film->threads) { /* cannot happen in practice; the barrier would never open */
+        atomic_store(&j->stop, 1);
+        fprintf(stderr, "plumage: could not start %d threads\n", film->threads);
+        abort();
+    }
+    while (atomic_load(&j->finished_threads) < film->threads) {
+        struct timespec nap = {0, 50 * 1000 * 1000};
+        nanosleep(&nap, NULL);
+        double t = now_seconds();
+        if (opt->progress && t - last_draw >= 0.25) {
+            draw_progress(j, t - t0, 0);
+            last_draw = t;
+        }
+    }
+    for (int i = 0; i < film->threads; ++i)
+        pthread_join(threads[i], NULL);
+    film->seconds = now_seconds() - t0;
+    if (opt->progress)
+        draw_progress(j, film->seconds, 1);
+    pthread_barrier_destroy(&j->barrier);
+
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c)
+            film->rgb[3 * p + c] = film->samples[p] ? (float)(j->sum[3 * p + c] / film->samples[p]) : 0.0f;
+    film->sample_count = atomic_load(&j->samples_done);
+    film->ray_count = atomic_load(&j->rays);
+    film->nonfinite = atomic_load(&j->nonfinite);
+    film->interrupted = film->sample_count < (long long)pixels * j->spp;
+    free(j->sum);
+    free(j);
+    free(threads);
+    return PLM_OK;
+}
+
+plm_result plm_render(const plm_scene *scene, const plm_render_options *opt, plm_film *film, plm_error *err)
+{
+    plm_world world;
+    plm_result rc = plm_world_build(scene, &world, err);
+    if (rc != PLM_OK)
+        return rc;
+    rc = plm_render_world(&world, opt, film, err);
+    plm_world_free(&world);
+    return rc;
+}
+
+void plm_film_free(plm_film *film)
+{
+    free(film->rgb);
+    free(film->samples);
+    film->rgb = NULL;
+    film->samples = NULL;
+}
+
+plm_result plm_film_write(const plm_film *film, const char *exr_path, const char *png_path, double exposure,
+                          plm_error *err)
+{
+    plm_result rc = PLM_OK;
+    if (exr_path && exr_path[0])
+        rc = plm_image_write(exr_path, film->width, film->height, 3, PLM_PIXEL_FLOAT, film->rgb, err);
+    if (rc == PLM_OK && png_path && png_path[0])
+        rc = plm_image_write_srgb_png(png_path, film->width, film->height, film->rgb, exposure, err);
+    return rc;
+}

@@ -1,0 +1,173 @@
+/* Scene storage, builders and the built-in shapes. */
+#include "render/scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+
+void plm_scene_init(plm_scene *scene)
+{
+    memset(scene, 0, sizeof *scene);
+    scene->camera.position = v3(0.0, 0.0, 5.0);
+    scene->camera.look_at = v3(0.0, 0.0, 0.0);
+    scene->camera.up = v3(0.0, 1.0, 0.0);
+    scene->camera.fov = 40.0;
+    plm_film_desc *f = &scene->film;
+    f->width = 512;
+    f->height = 512;
+    f->spp = 64;
+    f->max_depth = 16;
+    f->seed = 1;
+}
+
+void plm_scene_free(plm_scene *scene)
+{
+    for (int i = 0; i < scene->light_count; ++i)
+        free(scene->lights[i].image.pixels);
+    for (int i = 0; i < scene->mesh_count; ++i)
+        plm_mesh_free(&scene->meshes[i].mesh);
+    for (int i = 0; i < scene->material_count; ++i) {
+        plm_feather_texture_free(&scene->materials[i].texture);
+        free(scene->materials[i].feather);
+    }
+    free(scene->lights);
+    free(scene->meshes);
+    free(scene->materials);
+    free(scene->instances);
+    plm_scene_init(scene);
+}
+
+/* Makes room for one more element in a growable array. */
+static int grow(void **items, int *count, int *capacity, size_t size)
+{
+    if (*count == *capacity) {
+        int cap = *capacity ? 2 * *capacity : 8;
+        void *p = realloc(*items, (size_t)cap * size);
+        if (!p)
+            return -1;
+        *items = p;
+        *capacity = cap;
+    }
+    return (*count)++;
+}
+
+int plm_scene_add_mesh(plm_scene *scene, const char *name, plm_mesh *mesh)
+{
+    int i = grow((void **)&scene->meshes, &scene->mesh_count, &scene->mesh_capacity, sizeof *scene->meshes);
+    if (i < 0)
+        return -1;
+    snprintf(scene->meshes[i].name, PLM_NAME_MAX, "%s", name);
+    scene->meshes[i].mesh = *mesh;
+    memset(mesh, 0, sizeof *mesh);
+    return i;
+}
+
+int plm_scene_add_material(plm_scene *scene, const plm_material *material)
+{
+    int i = grow((void **)&scene->materials, &scene->material_count, &scene->material_capacity,
+                 sizeof *scene->materials);
+    if (i >= 0)
+        scene->materials[i] = *material;
+    return i;
+}
+
+int plm_scene_add_light(plm_scene *scene, const plm_light *light)
+{
+    int i = grow((void **)&scene->lights, &scene->light_count, &scene->light_capacity, sizeof *scene->lights);
+    if (i >= 0)
+        scene->lights[i] = *light;
+    return i;
+}
+
+int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance)
+{
+    int i = grow((void **)&scene->instances, &scene->instance_count, &scene->instance_capacity,
+                 sizeof *scene->instances);
+    if (i >= 0)
+        scene->instances[i] = *instance;
+    return i;
+}
+
+int plm_scene_find_mesh(const plm_scene *scene, const char *name)
+{
+    for (int i = 0; i < scene->mesh_count; ++i)
+        if (strcmp(scene->meshes[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+int plm_scene_find_material(const plm_scene *scene, const char *name)
+{
+    for (int i = 0; i < scene->material_count; ++i)
+        if (strcmp(scene->materials[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+/* A (nu+1) x (nv+1) vertex grid with all arrays allocated and triangle indices filled. */
+static plm_result grid_mesh(int nu, int nv, plm_mesh *m, plm_error *err)
+{
+    memset(m, 0, sizeof *m);
+    m->vertex_count = (nu + 1) * (nv + 1);
+    m->triangle_count = 2 * nu * nv;
+    m->positions = malloc(sizeof(float) * 3 * (size_t)m->vertex_count);
+    m->normals = malloc(sizeof(float) * 3 * (size_t)m->vertex_count);
+    m->uvs = malloc(sizeof(float) * 2 * (size_t)m->vertex_count);
+    m->indices = malloc(sizeof(uint32_t) * 3 * (size_t)m->triangle_count);
+    if (!m->positions || !m->normals || !m->uvs || !m->indices) {
+        plm_mesh_free(m);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d shape", nu, nv);
+    }
+    uint32_t *t = m->indices;
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            uint32_t a = (uint32_t)(j * (nu + 1) + i), b = a + 1, c = a + (uint32_t)(nu + 1), d = c + 1;
+            *t++ = a, *t++ = b, *t++ = d;
+            *t++ = a, *t++ = d, *t++ = c;
+        }
+    return PLM_OK;
+}
+
+static void set_vertex(plm_mesh *m, int k, vec3 p, vec3 n, double u, double v)
+{
+    m->positions[3 * k] = (float)p.x, m->positions[3 * k + 1] = (float)p.y, m->positions[3 * k + 2] = (float)p.z;
+    m->normals[3 * k] = (float)n.x, m->normals[3 * k + 1] = (float)n.y, m->normals[3 * k + 2] = (float)n.z;
+    m->uvs[2 * k] = (float)u, m->uvs[2 * k + 1] = (float)v;
+}
+
+plm_result plm_shape_quad(double width, double height, double curl, int segments, plm_mesh *out, plm_error *err)
+{
+    int nu = curl != 0.0 ? segments : 1;
+    plm_result rc = grid_mesh(nu, 1, out, err);
+    if (rc != PLM_OK)
+        return rc;
+    for (int j = 0; j <= 1; ++j)
+        for (int i = 0; i <= nu; ++i) {
+            double u = (double)i / nu, s = (u - 0.5) * width; /* arc length from the centre line */
+            vec3 p = v3(s, (j - 0.5) * height, 0.0), n = v3(0.0, 0.0, 1.0);
+            if (curl != 0.0) { /* wrap onto a cylinder of radius 1/curl whose axis is parallel to y */
+                double a = s * curl;
+                p = v3(sin(a) / curl, p.y, (cos(a) - 1.0) / curl);
+                n = v3(sin(a), 0.0, cos(a));
+            }
+            set_vertex(out, j * (nu + 1) + i, p, n, u, j);
+        }
+    return PLM_OK;
+}
+
+plm_result plm_shape_sphere(double radius, int rings, plm_mesh *out, plm_error *err)
+{
+    int nu = 2 * rings, nv = rings;
+    plm_result rc = grid_mesh(nu, nv, out, err);
+    if (rc != PLM_OK)
+        return rc;
+    for (int j = 0; j <= nv; ++j)
+        for (int i = 0; i <= nu; ++i) {
+            double u = (double)i / nu, v = (double)j / nv;
+            double theta = PLM_PI * (1.0 - v), phi = PLM_TWO_PI * u;
+            vec3 n = v3(sin(theta) * sin(phi), cos(theta), sin(theta) * cos(phi));
+            set_vertex(out, j * (nu + 1) + i, v3_scale(n, radius), n, u, v);
+        }
+    return PLM_OK;
+}

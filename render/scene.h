@@ -1,0 +1,122 @@
+/* A scene as plain data: camera, film, lights, meshes, materials and
+ * instances. Read from JSON with plm_scene_load (the README's "Scene files"
+ * section documents every field and default) or built in code with the
+ * plm_scene_add_* functions. The scene owns everything it points to. */
+#ifndef PLUMAGE_RENDER_SCENE_H
+#define PLUMAGE_RENDER_SCENE_H
+
+#include <stdint.h>
+
+#include "common/error.h"
+#include "common/image_io.h"
+#include "common/mesh.h"
+#include "common/vec.h"
+#include "render/feather_texture.h"
+#include "render/transform.h"
+
+#define PLM_NAME_MAX 128
+#define PLM_PATH_MAX 4096
+
+typedef struct plm_camera_desc {
+    vec3 position, look_at, up;
+    double fov;            /* vertical field of view, degrees */
+    double aperture;       /* thin-lens radius in scene units; 0 = pinhole */
+    double focus_distance; /* 0 = the distance from position to look_at */
+    int given;             /* 0: frame the scene's bounds automatically */
+} plm_camera_desc;
+
+typedef struct plm_film_desc {
+    int width, height, spp, max_depth;
+    uint64_t seed;
+    double exposure;     /* PNG only: scale by 2^exposure before tone mapping */
+    char exr[PLM_PATH_MAX]; /* "" = not written */
+    char png[PLM_PATH_MAX];
+} plm_film_desc;
+
+typedef enum plm_light_type {
+    PLM_LIGHT_CONSTANT_ENV, /* uniform radiance from every direction */
+    PLM_LIGHT_ENV_MAP,      /* lat-long image, y up */
+    PLM_LIGHT_DISTANT,      /* a sun: irradiance from one direction */
+    PLM_LIGHT_SPHERE,       /* uniformly emitting sphere */
+    PLM_LIGHT_QUAD          /* uniformly emitting parallelogram */
+} plm_light_type;
+
+typedef struct plm_light {
+    plm_light_type type;
+    rgb radiance;          /* constant env, sphere, quad; env map: scale applied to the image */
+    rgb irradiance;        /* distant: on a surface facing the light */
+    vec3 direction;        /* distant: unit vector toward the light */
+    vec3 center;           /* sphere */
+    double radius;
+    vec3 corner, edge_u, edge_v; /* quad: emits toward edge_u x edge_v (both sides if two_sided) */
+    int two_sided;
+    plm_image image;       /* env map (RGB) */
+    double rotation;       /* env map: radians about +y */
+} plm_light;
+
+typedef enum plm_material_type {
+    PLM_MATERIAL_DIFFUSE = 0,
+    PLM_MATERIAL_FEATHER = 1
+} plm_material_type;
+
+struct plm_feather_params; /* render/feather_bsdf.h */
+
+typedef struct plm_material {
+    char name[PLM_NAME_MAX];
+    plm_material_type type;
+    rgb reflectance;     /* diffuse albedo; for a feather, the rachis colour */
+    double transmission; /* diffuse: fraction of light passing straight through (a perforated sheet) */
+    plm_feather_texture texture;             /* feather only */
+    struct plm_feather_params *feather;      /* feather only, malloc'd */
+} plm_material;
+
+typedef struct plm_scene_mesh {
+    char name[PLM_NAME_MAX];
+    plm_mesh mesh;
+} plm_scene_mesh;
+
+typedef struct plm_instance {
+    int mesh, material; /* indices into the scene's arrays */
+    plm_xform xform;    /* object to world */
+    rgb tint;           /* multiplies the material's scattered colour */
+} plm_instance;
+
+typedef struct plm_scene {
+    plm_camera_desc camera;
+    plm_film_desc film;
+    plm_light *lights;
+    int light_count, light_capacity;
+    plm_scene_mesh *meshes;
+    int mesh_count, mesh_capacity;
+    plm_material *materials;
+    int material_count, material_capacity;
+    plm_instance *instances;
+    int instance_count, instance_capacity;
+} plm_scene;
+
+/* Empty scene with the documented camera and film defaults. */
+void plm_scene_init(plm_scene *scene);
+void plm_scene_free(plm_scene *scene);
+
+/* Reads a scene file (and the files it includes). On failure the scene is
+ * freed and err names the file, the field path and the allowed values. */
+plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err);
+
+/* Builders; each returns the new element's index, or -1 when out of memory.
+ * add_mesh takes ownership of mesh's arrays; add_material of the texture
+ * and feather parameters. */
+int plm_scene_add_mesh(plm_scene *scene, const char *name, plm_mesh *mesh);
+int plm_scene_add_material(plm_scene *scene, const plm_material *material);
+int plm_scene_add_light(plm_scene *scene, const plm_light *light);
+int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance);
+int plm_scene_find_mesh(const plm_scene *scene, const char *name);
+int plm_scene_find_material(const plm_scene *scene, const char *name);
+
+/* Built-in shapes. A quad of size (w, h) in the xy plane centred at the origin,
+ * normal +z, u along +x and v along +y; `curl` bends it into a cylinder about
+ * the y axis with that curvature (1/radius, 0 = flat), keeping its width. */
+plm_result plm_shape_quad(double width, double height, double curl, int segments, plm_mesh *out, plm_error *err);
+/* A UV sphere centred at the origin; v runs from the south pole (0) to the north pole (1, +y). */
+plm_result plm_shape_sphere(double radius, int rings, plm_mesh *out, plm_error *err);
+
+#endif

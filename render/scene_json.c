@@ -1,0 +1,551 @@
+/* Scene files: JSON validated field by field (unknown fields are errors),
+ * includes merged, relative paths resolved against the file that names them.
+ * The README's "Scene files" section documents every field. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/json.h"
+#include "common/rng.h"
+#include "render/scene.h"
+
+#define MAX_INCLUDE_DEPTH 8
+#define BIG 1e9 /* bound for coordinates and distances */
+
+typedef struct loader {
+    plm_scene *scene;
+    plm_error *err;
+    int camera_set, film_set; /* by a file nearer the top: includes do not override them */
+} loader;
+
+static plm_result load_file(loader *ld, const char *path, int depth);
+
+/* dir(base)/rel unless rel is absolute or base has no directory. */
+static void resolve_path(const char *base, const char *rel, char *out)
+{
+    const char *slash = strrchr(base, '/');
+    if (rel[0] == '/' || !slash)
+        snprintf(out, PLM_PATH_MAX, "%s", rel);
+    else
+        snprintf(out, PLM_PATH_MAX, "%.*s/%s", (int)(slash - base), base, rel);
+}
+
+static plm_result read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
+                            int required, char *out)
+{
+    const char *s = NULL;
+    plm_result rc = plm_json_string(r, obj, path, key, NULL, &s);
+    if (rc != PLM_OK)
+        return rc;
+    if (!s) {
+        out[0] = '\0';
+        return required ? plm_json_fail(r, path, key, "required (a file path)") : PLM_OK;
+    }
+    if (!s[0])
+        return plm_json_fail(r, path, key, "expected a non-empty file path");
+    resolve_path(r->file, s, out);
+    return PLM_OK;
+}
+
+static plm_result read_camera(const plm_json_reader *r, const cJSON *obj, plm_camera_desc *c)
+{
+    static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture", "focus_distance", NULL};
+    plm_result rc = plm_json_check_object(r, obj, "camera", keys);
+    if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, "camera", "position", c->position, -BIG, BIG, &c->position);
+    if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, "camera", "look_at", c->look_at, -BIG, BIG, &c->look_at);
+    if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, "camera", "up", c->up, -BIG, BIG, &c->up);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, "camera", "fov", c->fov, 0.01, 179.0, &c->fov);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, "camera", "aperture", c->aperture, 0.0, BIG, &c->aperture);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, "camera", "focus_distance", c->focus_distance, 0.0, BIG, &c->focus_distance);
+    if (rc != PLM_OK)
+        return rc;
+    vec3 view = v3_sub(c->look_at, c->position);
+    if (v3_length(view) < 1e-9)
+        return plm_json_fail(r, "camera", "look_at", "must differ from camera.position");
+    if (v3_length(v3_cross(view, c->up)) < 1e-9 * v3_length(view) * v3_length(c->up) || v3_length(c->up) == 0.0)
+        return plm_json_fail(r, "camera", "up", "must be a non-zero vector not parallel to the view direction");
+    c->given = 1;
+    return PLM_OK;
+}
+
+static plm_result read_film(const plm_json_reader *r, const cJSON *obj, plm_film_desc *f)
+{
+    static const char *const keys[] = {"width", "height", "spp", "seed", "max_depth", "exr", "png", "exposure",
+                                       NULL};
+    int seed = (int)f->seed;
+    plm_result rc = plm_json_check_object(r, obj, "film", keys);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, "film", "width", f->width, 1, 16384, &f->width);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, "film", "height", f->height, 1, 16384, &f->height);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, "film", "spp", f->spp, 1, 1 << 24, &f->spp);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, "film", "seed", seed, 0, 2147483647, &seed);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, "film", "max_depth", f->max_depth, 0, 1024, &f->max_depth);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, "film", "exposure", f->exposure, -30.0, 30.0, &f->exposure);
+    /* Outputs are relative to the working directory, not to the scene file:
+     * rendering a preset must not write into the preset folder. */
+    const char *exr = NULL, *png = NULL;
+    if (rc == PLM_OK)
+        rc = plm_json_string(r, obj, "film", "exr", NULL, &exr);
+    if (rc == PLM_OK)
+        rc = plm_json_string(r, obj, "film", "png", NULL, &png);
+    if (rc != PLM_OK)
+        return rc;
+    f->seed = (uint64_t)seed;
+    if (exr)
+        snprintf(f->exr, sizeof f->exr, "%s", exr);
+    if (png)
+        snprintf(f->png, sizeof f->png, "%s", png);
+    return PLM_OK;
+}
+
+static plm_result read_light(const plm_json_reader *r, const cJSON *obj, const char *path, plm_light *l)
+{
+    static const char *const types[] = {"environment", "distant", "sphere", "quad", NULL};
+    static const char *const keys[][7] = {
+        {"type", "radiance", "file", "rotation", NULL},
+        {"type", "direction", "irradiance", NULL},
+        {"type", "center", "radius", "radiance", NULL},
+        {"type", "corner", "edge_u", "edge_v", "radiance", "two_sided", NULL},
+    };
+    int type = -1;
+    memset(l, 0, sizeof *l);
+    if (!cJSON_IsObject(obj))
+        return plm_json_fail(r, path, NULL, "expected an object");
+    if (!cJSON_GetObjectItemCaseSensitive(obj, "type"))
+        return plm_json_fail(r, path, "type", "required: one of \"environment\", \"distant\", \"sphere\", \"quad\"");
+    plm_result rc = plm_json_enum(r, obj, path, "type", types, 0, &type);
+    if (rc == PLM_OK)
+        rc = plm_json_check_object(r, obj, path, keys[type]);
+    if (rc == PLM_OK && type != 1)
+        rc = plm_json_rgb(r, obj, path, "radiance", rgb_gray(1.0), 0.0, BIG, &l->radiance);
+    if (rc != PLM_OK)
+        return rc;
+    if (type == 0) {
+        char file[PLM_PATH_MAX];
+        double rotation;
+        rc = read_path(r, obj, path, "file", 0, file);
+        if (rc == PLM_OK)
+            rc = plm_json_number(r, obj, path, "rotation", 0.0, -360.0, 360.0, &rotation);
+        if (rc != PLM_OK)
+            return rc;
+        l->rotation = plm_radians(rotation);
+        l->type = file[0] ? PLM_LIGHT_ENV_MAP : PLM_LIGHT_CONSTANT_ENV;
+        if (!file[0])
+            return PLM_OK;
+        plm_image *im = &l->image;
+        rc = plm_image_read(file, &im->width, &im->height, &im->channels, &im->pixels, r->err);
+        if (rc != PLM_OK) {
+            plm_error_prefix(r->err, "%s: %s.file: ", r->file, path);
+            return rc;
+        }
+        if (im->channels < 3) {
+            free(im->pixels);
+            im->pixels = NULL;
+            return plm_json_fail(r, path, "file", "%s has %d channels, an environment map needs RGB", file,
+                                 im->channels);
+        }
+        return PLM_OK;
+    }
+    if (type == 1) {
+        l->type = PLM_LIGHT_DISTANT;
+        rc = plm_json_vec3(r, obj, path, "direction", v3(0.0, 1.0, 0.0), -BIG, BIG, &l->direction);
+        if (rc == PLM_OK)
+            rc = plm_json_rgb(r, obj, path, "irradiance", rgb_gray(1.0), 0.0, BIG, &l->irradiance);
+        if (rc == PLM_OK && v3_length(l->direction) == 0.0)
+            return plm_json_fail(r, path, "direction", "must be a non-zero vector (pointing toward the light)");
+        l->direction = v3_normalize(l->direction);
+        return rc;
+    }
+    if (type == 2) {
+        l->type = PLM_LIGHT_SPHERE;
+        rc = plm_json_vec3(r, obj, path, "center", v3(0.0, 0.0, 0.0), -BIG, BIG, &l->center);
+        if (rc == PLM_OK)
+            rc = plm_json_number(r, obj, path, "radius", 1.0, 1e-6, BIG, &l->radius);
+        return rc;
+    }
+    l->type = PLM_LIGHT_QUAD;
+    rc = plm_json_vec3(r, obj, path, "corner", v3(-0.5, 2.0, -0.5), -BIG, BIG, &l->corner);
+    if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, path, "edge_u", v3(0.0, 0.0, 1.0), -BIG, BIG, &l->edge_u);
+    if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, path, "edge_v", v3(1.0, 0.0, 0.0), -BIG, BIG, &l->edge_v);
+    if (rc == PLM_OK)
+        rc = plm_json_bool(r, obj, path, "two_sided", 0, &l->two_sided);
+    if (rc == PLM_OK && v3_length(v3_cross(l->edge_u, l->edge_v)) < 1e-12)
+        return plm_json_fail(r, path, "edge_v", "edge_u and edge_v must span a non-zero area");
+    return rc;
+}
+
+static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const char *path, plm_mesh *m)
+{
+    static const char *const shapes[] = {"quad", "sphere", NULL};
+    static const char *const file_keys[] = {"file", NULL};
+    static const char *const quad_keys[] = {"shape", "size", "curl", "segments", NULL};
+    static const char *const sphere_keys[] = {"shape", "radius", "rings", NULL};
+    if (!cJSON_IsObject(obj))
+        return plm_json_fail(r, path, NULL, "expected an object with \"file\" or \"shape\"");
+    if (cJSON_GetObjectItemCaseSensitive(obj, "file")) {
+        char file[PLM_PATH_MAX];
+        plm_result rc = plm_json_check_object(r, obj, path, file_keys);
+        if (rc == PLM_OK)
+            rc = read_path(r, obj, path, "file", 1, file);
+        if (rc == PLM_OK && (rc = plm_mesh_read(file, m, r->err)) != PLM_OK)
+            plm_error_prefix(r->err, "%s: %s.file: ", r->file, path);
+        return rc;
+    }
+    if (!cJSON_GetObjectItemCaseSensitive(obj, "shape"))
+        return plm_json_fail(r, path, NULL, "needs \"file\" (PLY or OBJ) or \"shape\" (\"quad\" or \"sphere\")");
+    int shape = 0;
+    plm_result rc = plm_json_enum(r, obj, path, "shape", shapes, 0, &shape);
+    if (rc == PLM_OK)
+        rc = plm_json_check_object(r, obj, path, shape == 0 ? quad_keys : sphere_keys);
+    if (rc != PLM_OK)
+        return rc;
+    if (shape == 0) {
+        double size[2] = {1.0, 1.0}, curl = 0.0;
+        int segments = 32;
+        const cJSON *s = cJSON_GetObjectItemCaseSensitive(obj, "size");
+        if (s) {
+            if (!cJSON_IsArray(s) || cJSON_GetArraySize(s) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(s, 0)) ||
+                !cJSON_IsNumber(cJSON_GetArrayItem(s, 1)))
+                return plm_json_fail(r, path, "size", "expected [width, height], each in (0, 1e9]");
+            size[0] = cJSON_GetArrayItem(s, 0)->valuedouble;
+            size[1] = cJSON_GetArrayItem(s, 1)->valuedouble;
+            if (!(size[0] > 0.0 && size[0] <= BIG && size[1] > 0.0 && size[1] <= BIG))
+                return plm_json_fail(r, path, "size", "expected [width, height], each in (0, 1e9]");
+        }
+        rc = plm_json_number(r, obj, path, "curl", 0.0, -BIG, BIG, &curl);
+        if (rc == PLM_OK)
+            rc = plm_json_int(r, obj, path, "segments", segments, 1, 4096, &segments);
+        if (rc == PLM_OK && fabs(curl) * size[0] > PLM_TWO_PI)
+            return plm_json_fail(r, path, "curl", "|curl| * width must be at most 2 pi (one full turn)");
+        return rc == PLM_OK ? plm_shape_quad(size[0], size[1], curl, segments, m, r->err) : rc;
+    }
+    double radius;
+    int rings;
+    rc = plm_json_number(r, obj, path, "radius", 1.0, 1e-9, BIG, &radius);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, path, "rings", 64, 3, 4096, &rings);
+    return rc == PLM_OK ? plm_shape_sphere(radius, rings, m, r->err) : rc;
+}
+
+static plm_result read_material(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
+{
+    static const char *const types[] = {"diffuse", NULL};
+    static const char *const diffuse_keys[] = {"type", "reflectance", "transmission", "mask", NULL};
+    int type = 0;
+    if (!cJSON_IsObject(obj))
+        return plm_json_fail(r, path, NULL, "expected an object");
+    plm_result rc = plm_json_enum(r, obj, path, "type", types, 0, &type);
+    if (rc == PLM_OK)
+        rc = plm_json_check_object(r, obj, path, diffuse_keys);
+    if (rc == PLM_OK)
+        rc = plm_json_rgb(r, obj, path, "reflectance", rgb_gray(0.5), 0.0, 1.0, &m->reflectance);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "transmission", 0.0, 0.0, 1.0, &m->transmission);
+    char mask[PLM_PATH_MAX];
+    if (rc == PLM_OK)
+        rc = read_path(r, obj, path, "mask", 0, mask);
+    if (rc == PLM_OK && mask[0] && (rc = plm_feather_texture_read(mask, &m->texture, r->err)) != PLM_OK)
+        plm_error_prefix(r->err, "%s: %s.mask: ", r->file, path);
+    m->type = PLM_MATERIAL_DIFFUSE;
+    return rc;
+}
+
+/* {"translate", "rotate" (degrees about x, then y, then z), "scale"} or {"matrix": 12 or 16 numbers, row-major}. */
+static plm_result read_transform(const plm_json_reader *r, const cJSON *obj, const char *path, plm_xform *out)
+{
+    static const char *const keys[] = {"translate", "rotate", "scale", "matrix", NULL};
+    *out = plm_xform_identity();
+    if (!obj)
+        return PLM_OK;
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc != PLM_OK)
+        return rc;
+    const cJSON *mat = cJSON_GetObjectItemCaseSensitive(obj, "matrix");
+    if (mat) {
+        int n = cJSON_GetArraySize(mat);
+        if (obj->child->next || !cJSON_IsArray(mat) || (n != 12 && n != 16))
+            return plm_json_fail(r, path, "matrix", "expected 12 or 16 numbers (row-major), and no other field");
+        double m[3][4];
+        for (int i = 0; i < 12; ++i) {
+            const cJSON *e = cJSON_GetArrayItem(mat, i);
+            if (!cJSON_IsNumber(e) || !(fabs(e->valuedouble) <= BIG))
+                return plm_json_fail(r, path, "matrix", "element %d must be a number in [-1e9, 1e9]", i);
+            m[i / 4][i % 4] = e->valuedouble;
+        }
+        if (!plm_xform_from_matrix(m, out))
+            return plm_json_fail(r, path, "matrix", "is singular");
+        return PLM_OK;
+    }
+    vec3 t, rot, s = v3(1.0, 1.0, 1.0);
+    rc = plm_json_vec3(r, obj, path, "translate", v3(0.0, 0.0, 0.0), -BIG, BIG, &t);
+    if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, path, "rotate", v3(0.0, 0.0, 0.0), -36000.0, 36000.0, &rot);
+    const cJSON *sc = cJSON_GetObjectItemCaseSensitive(obj, "scale");
+    if (rc == PLM_OK && cJSON_IsNumber(sc))
+        s = v3(sc->valuedouble, sc->valuedouble, sc->valuedouble);
+    else if (rc == PLM_OK)
+        rc = plm_json_vec3(r, obj, path, "scale", s, -BIG, BIG, &s);
+    if (rc != PLM_OK)
+        return rc;
+    if (!(fabs(s.x) >= 1e-12 && fabs(s.y) >= 1e-12 && fabs(s.z) >= 1e-12 && fabs(s.x) <= BIG))
+        return plm_json_fail(r, path, "scale", "must be a non-zero number or 3 non-zero numbers in [-1e9, 1e9]");
+    plm_xform x = plm_xform_scale(s), step;
+    step = plm_xform_rotate(v3(1, 0, 0), plm_radians(rot.x)), x = plm_xform_compose(&step, &x);
+    step = plm_xform_rotate(v3(0, 1, 0), plm_radians(rot.y)), x = plm_xform_compose(&step, &x);
+    step = plm_xform_rotate(v3(0, 0, 1), plm_radians(rot.z)), x = plm_xform_compose(&step, &x);
+    step = plm_xform_translate(t);
+    *out = plm_xform_compose(&step, &x);
+    return PLM_OK;
+}
+
+static plm_result read_name_ref(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
+                                int index, const char *kind)
+{
+    const char *name = NULL;
+    plm_result rc = plm_json_string(r, obj, path, key, NULL, &name);
+    if (rc != PLM_OK)
+        return rc;
+    if (!name)
+        return plm_json_fail(r, path, key, "required: the name of one of the scene's %s", kind);
+    if (index < 0)
+        return plm_json_fail(r, path, key, "\"%s\" is not defined in \"%s\"", name, kind);
+    return PLM_OK;
+}
+
+/* Per-instance colour variation: each channel of the tint scaled by a factor
+ * in [1 - jitter, 1], drawn from (seed, instance index), so it never brightens. */
+static rgb jitter_tint(rgb tint, double jitter, int seed, int index)
+{
+    plm_rng rng;
+    plm_rng_seed(&rng, plm_hash64((uint64_t)seed, (uint64_t)index, 0x7115), 1);
+    double a = plm_rng_uniform(&rng), b = plm_rng_uniform(&rng), c = plm_rng_uniform(&rng);
+    return rgb_make(tint.r * (1.0 - jitter * a), tint.g * (1.0 - jitter * b), tint.b * (1.0 - jitter * c));
+}
+
+static plm_result read_object(const plm_json_reader *r, const cJSON *obj, const char *path, plm_scene *scene)
+{
+    static const char *const keys[] = {"mesh", "material", "transform", "tint", "instances", "tint_jitter",
+                                       "seed", NULL};
+    static const char *const instance_keys[] = {"transform", "tint", NULL};
+    const char *mesh_name = NULL, *material_name = NULL;
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = plm_json_string(r, obj, path, "mesh", NULL, &mesh_name);
+    if (rc == PLM_OK)
+        rc = plm_json_string(r, obj, path, "material", NULL, &material_name);
+    plm_instance base = {0};
+    base.mesh = mesh_name ? plm_scene_find_mesh(scene, mesh_name) : -1;
+    base.material = material_name ? plm_scene_find_material(scene, material_name) : -1;
+    if (rc == PLM_OK)
+        rc = read_name_ref(r, obj, path, "mesh", base.mesh, "meshes");
+    if (rc == PLM_OK)
+        rc = read_name_ref(r, obj, path, "material", base.material, "materials");
+    if (rc == PLM_OK)
+        rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(obj, "transform"), path, &base.xform);
+    double jitter = 0.0;
+    int seed = 0;
+    if (rc == PLM_OK)
+        rc = plm_json_rgb(r, obj, path, "tint", rgb_gray(1.0), 0.0, 1.0, &base.tint);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "tint_jitter", 0.0, 0.0, 1.0, &jitter);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, path, "seed", 0, 0, 2147483647, &seed);
+    if (rc != PLM_OK)
+        return rc;
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(obj, "instances");
+    if (!list) {
+        base.tint = jitter_tint(base.tint, jitter, seed, 0);
+        return plm_scene_add_instance(scene, &base) < 0 ? plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory")
+                                                         : PLM_OK;
+    }
+    if (!cJSON_IsArray(list))
+        return plm_json_fail(r, path, "instances", "expected an array of {\"transform\", \"tint\"} objects");
+    int index = 0;
+    for (const cJSON *e = list->child; e; e = e->next, ++index) {
+        char epath[256];
+        snprintf(epath, sizeof epath, "%s.instances[%d]", path, index);
+        plm_instance inst = base;
+        plm_xform local;
+        rc = plm_json_check_object(r, e, epath, instance_keys);
+        if (rc == PLM_OK)
+            rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(e, "transform"), epath, &local);
+        if (rc == PLM_OK)
+            rc = plm_json_rgb(r, e, epath, "tint", base.tint, 0.0, 1.0, &inst.tint);
+        if (rc != PLM_OK)
+            return rc;
+        inst.xform = plm_xform_compose(&base.xform, &local);
+        inst.tint = jitter_tint(inst.tint, jitter, seed, index);
+        if (plm_scene_add_instance(scene, &inst) < 0)
+            return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    return PLM_OK;
+}
+
+static plm_result check_new_name(const plm_json_reader *r, const char *path, const char *name, int existing)
+{
+    if (strlen(name) >= PLM_NAME_MAX)
+        return plm_json_fail(r, path, name, "names are limited to %d characters", PLM_NAME_MAX - 1);
+    if (existing >= 0)
+        return plm_json_fail(r, path, name, "is already defined (names must be unique across included files)");
+    return PLM_OK;
+}
+
+static plm_result read_meshes(const plm_json_reader *r, const cJSON *obj, plm_scene *scene)
+{
+    if (!cJSON_IsObject(obj))
+        return plm_json_fail(r, "meshes", NULL, "expected an object of name: mesh");
+    for (const cJSON *e = obj->child; e; e = e->next) {
+        char path[256];
+        snprintf(path, sizeof path, "meshes.%s", e->string);
+        plm_mesh mesh = {0};
+        plm_result rc = check_new_name(r, "meshes", e->string, plm_scene_find_mesh(scene, e->string));
+        if (rc == PLM_OK)
+            rc = read_mesh(r, e, path, &mesh);
+        if (rc != PLM_OK)
+            return rc;
+        if (mesh.triangle_count == 0 || !mesh.positions || !mesh.indices) {
+            plm_mesh_free(&mesh);
+            return plm_json_fail(r, path, NULL, "has no triangles");
+        }
+        if (plm_scene_add_mesh(scene, e->string, &mesh) < 0) {
+            plm_mesh_free(&mesh);
+            return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+        }
+    }
+    return PLM_OK;
+}
+
+static plm_result read_materials(const plm_json_reader *r, const cJSON *obj, plm_scene *scene)
+{
+    if (!cJSON_IsObject(obj))
+        return plm_json_fail(r, "materials", NULL, "expected an object of name: material");
+    for (const cJSON *e = obj->child; e; e = e->next) {
+        char path[256];
+        snprintf(path, sizeof path, "materials.%s", e->string);
+        plm_material m;
+        memset(&m, 0, sizeof m);
+        snprintf(m.name, sizeof m.name, "%s", e->string);
+        plm_result rc = check_new_name(r, "materials", e->string, plm_scene_find_material(scene, e->string));
+        if (rc == PLM_OK)
+            rc = read_material(r, e, path, &m);
+        if (rc == PLM_OK && plm_scene_add_material(scene, &m) < 0)
+            rc = plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+        if (rc != PLM_OK) {
+            plm_feather_texture_free(&m.texture);
+            free(m.feather);
+            return rc;
+        }
+    }
+    return PLM_OK;
+}
+
+static plm_result read_includes(loader *ld, const plm_json_reader *r, const cJSON *inc, int depth)
+{
+    if (cJSON_IsString(inc)) {
+        char file[PLM_PATH_MAX];
+        resolve_path(r->file, inc->valuestring, file);
+        return load_file(ld, file, depth + 1);
+    }
+    if (!cJSON_IsArray(inc))
+        return plm_json_fail(r, "include", NULL, "expected a file path or an array of file paths");
+    int i = 0;
+    for (const cJSON *e = inc->child; e; e = e->next, ++i) {
+        if (!cJSON_IsString(e))
+            return plm_json_fail(r, "include", NULL, "element %d must be a file path", i);
+        char file[PLM_PATH_MAX];
+        resolve_path(r->file, e->valuestring, file);
+        plm_result rc = load_file(ld, file, depth + 1);
+        if (rc != PLM_OK)
+            return rc;
+    }
+    return PLM_OK;
+}
+
+static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *root, int depth)
+{
+    static const char *const keys[] = {"include", "camera", "film", "lights", "meshes", "materials", "objects",
+                                       NULL};
+    plm_scene *scene = ld->scene;
+    plm_result rc = plm_json_check_object(r, root, "", keys);
+    /* The including file's camera and film win over an included file's. */
+    const cJSON *camera = cJSON_GetObjectItemCaseSensitive(root, "camera");
+    const cJSON *film = cJSON_GetObjectItemCaseSensitive(root, "film");
+    int take_camera = camera && !ld->camera_set, take_film = film && !ld->film_set;
+    ld->camera_set |= camera != NULL;
+    ld->film_set |= film != NULL;
+    if (rc == PLM_OK && take_camera)
+        rc = read_camera(r, camera, &scene->camera);
+    if (rc == PLM_OK && take_film)
+        rc = read_film(r, film, &scene->film);
+    const cJSON *inc = cJSON_GetObjectItemCaseSensitive(root, "include");
+    if (rc == PLM_OK && inc)
+        rc = read_includes(ld, r, inc, depth);
+    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
+    if (rc == PLM_OK && lights && !cJSON_IsArray(lights))
+        rc = plm_json_fail(r, "lights", NULL, "expected an array of lights");
+    int i = 0;
+    for (const cJSON *e = lights ? lights->child : NULL; rc == PLM_OK && e; e = e->next, ++i) {
+        char path[64];
+        snprintf(path, sizeof path, "lights[%d]", i);
+        plm_light light;
+        rc = read_light(r, e, path, &light);
+        if (rc == PLM_OK && plm_scene_add_light(scene, &light) < 0) {
+            free(light.image.pixels);
+            rc = plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+        }
+    }
+    const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(root, "meshes");
+    if (rc == PLM_OK && meshes)
+        rc = read_meshes(r, meshes, scene);
+    const cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
+    if (rc == PLM_OK && materials)
+        rc = read_materials(r, materials, scene);
+    const cJSON *objects = cJSON_GetObjectItemCaseSensitive(root, "objects");
+    if (rc == PLM_OK && objects && !cJSON_IsArray(objects))
+        rc = plm_json_fail(r, "objects", NULL, "expected an array of objects");
+    i = 0;
+    for (const cJSON *e = objects ? objects->child : NULL; rc == PLM_OK && e; e = e->next, ++i) {
+        char path[64];
+        snprintf(path, sizeof path, "objects[%d]", i);
+        rc = read_object(r, e, path, scene);
+    }
+    return rc;
+}
+
+static plm_result load_file(loader *ld, const char *path, int depth)
+{
+    if (depth > MAX_INCLUDE_DEPTH)
+        return plm_fail(ld->err, PLM_ERR_INVALID, "%s: include: nested more than %d deep (an include cycle?)",
+                        path, MAX_INCLUDE_DEPTH);
+    cJSON *root;
+    plm_result rc = plm_json_load(path, &root, ld->err);
+    if (rc != PLM_OK)
+        return rc;
+    plm_json_reader r = {path, ld->err};
+    rc = read_scene(ld, &r, root, depth);
+    cJSON_Delete(root);
+    return rc;
+}
+
+plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err)
+{
+    plm_scene_init(scene);
+    loader ld = {scene, err, 0, 0};
+    plm_result rc = load_file(&ld, path, 0);
+    if (rc != PLM_OK)
+        plm_scene_free(scene);
+    return rc;
+}

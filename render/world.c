@@ -1,0 +1,321 @@
+/* Embree scenes (one per mesh prototype, instanced by a top-level scene),
+ * surface hits in world space, and the camera. */
+#include "render/world.h"
+
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+static vec3 mesh_vec3(const float *a, uint32_t i) { return v3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
+static vec2 mesh_vec2(const float *a, uint32_t i) { return v2(a[2 * i], a[2 * i + 1]); }
+
+static vec2 triangle_uv(const plm_mesh *m, unsigned prim, double b1, double b2)
+{
+    const uint32_t *idx = m->indices + 3 * (size_t)prim;
+    if (!m->uvs)
+        return v2(b1, b2);
+    vec2 a = mesh_vec2(m->uvs, idx[0]), b = mesh_vec2(m->uvs, idx[1]), c = mesh_vec2(m->uvs, idx[2]);
+    return v2((1.0 - b1 - b2) * a.x + b1 * b.x + b2 * c.x, (1.0 - b1 - b2) * a.y + b1 * b.y + b2 * c.y);
+}
+
+/* Intersection and occlusion filter: background texels of the mask are not
+ * there at all, so Embree goes on to the next candidate. Hits arrive as
+ * structure-of-arrays packets of N; the offsets follow embree3/rtcore_ray.h. */
+static void mask_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const plm_prototype *proto = args->geometryUserPtr;
+    const float *hit = (const float *)args->hit;
+    unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] == 0)
+            continue;
+        unsigned prim = ((const unsigned *)hit)[5 * n + i];
+        vec2 uv = triangle_uv(proto->mesh, prim, hit[3 * n + i], hit[4 * n + i]);
+        if (plm_feather_texture_region(proto->mask, uv) == PLM_REGION_BACKGROUND)
+            args->valid[i] = 0;
+    }
+}
+
+static plm_result build_prototype(RTCDevice device, plm_prototype *p, plm_error *err)
+{
+    const plm_mesh *m = p->mesh;
+    p->rtc = rtcNewScene(device);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                       (size_t)m->vertex_count);
+    unsigned *t = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                          (size_t)m->triangle_count);
+    if (!v || !t) {
+        rtcReleaseGeometry(g);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "Embree could not allocate a mesh of %d triangles",
+                        m->triangle_count);
+    }
+    memcpy(v, m->positions, sizeof(float) * 3 * (size_t)m->vertex_count);
+    memcpy(t, m->indices, sizeof(unsigned) * 3 * (size_t)m->triangle_count);
+    if (p->mask) {
+        rtcSetGeometryUserData(g, p);
+        rtcSetGeometryIntersectFilterFunction(g, mask_filter);
+        rtcSetGeometryOccludedFilterFunction(g, mask_filter);
+    }
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(p->rtc, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(p->rtc);
+    return PLM_OK;
+}
+
+static const plm_feather_texture *material_mask(const plm_material *m)
+{
+    return m->texture.pixels ? &m->texture : NULL;
+}
+
+/* One prototype per distinct (mesh, mask) pair among the instances. */
+static plm_result build_prototypes(plm_world *w, plm_error *err)
+{
+    const plm_scene *s = w->scene;
+    w->prototypes = calloc((size_t)s->instance_count + 1, sizeof *w->prototypes);
+    w->instance_prototype = calloc((size_t)s->instance_count + 1, sizeof *w->instance_prototype);
+    if (!w->prototypes || !w->instance_prototype)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for %d instances", s->instance_count);
+    for (int i = 0; i < s->instance_count; ++i) {
+        const plm_mesh *mesh = &s->meshes[s->instances[i].mesh].mesh;
+        const plm_feather_texture *mask = material_mask(&s->materials[s->instances[i].material]);
+        int k = 0;
+        while (k < w->prototype_count && !(w->prototypes[k].mesh == mesh && w->prototypes[k].mask == mask))
+            ++k;
+        if (k == w->prototype_count) {
+            w->prototypes[k].mesh = mesh;
+            w->prototypes[k].mask = mask;
+            plm_result rc = build_prototype(w->device, &w->prototypes[k], err);
+            if (rc != PLM_OK)
+                return rc;
+            w->prototype_count++;
+        }
+        w->instance_prototype[i] = k;
+    }
+    return PLM_OK;
+}
+
+static void grow_bounds(plm_world *w, vec3 p)
+{
+    w->bounds_min = v3(fmin(w->bounds_min.x, p.x), fmin(w->bounds_min.y, p.y), fmin(w->bounds_min.z, p.z));
+    w->bounds_max = v3(fmax(w->bounds_max.x, p.x), fmax(w->bounds_max.y, p.y), fmax(w->bounds_max.z, p.z));
+}
+
+static void build_instances(plm_world *w)
+{
+    const plm_scene *s = w->scene;
+    w->top = rtcNewScene(w->device);
+    w->bounds_min = v3(INFINITY, INFINITY, INFINITY);
+    w->bounds_max = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (int i = 0; i < s->instance_count; ++i) {
+        const plm_instance *in = &s->instances[i];
+        float m[12];
+        for (int k = 0; k < 12; ++k)
+            m[k] = (float)in->xform.m[k / 4][k % 4];
+        RTCGeometry g = rtcNewGeometry(w->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, w->prototypes[w->instance_prototype[i]].rtc);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, m);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(w->top, g, (unsigned)i);
+        rtcReleaseGeometry(g);
+        /* World bounds from the corners of the mesh's box. */
+        const plm_mesh *mesh = &s->meshes[in->mesh].mesh;
+        vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+        for (int v = 0; v < mesh->vertex_count; ++v) {
+            vec3 p = mesh_vec3(mesh->positions, (uint32_t)v);
+            lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+            hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+        }
+        for (int c = 0; c < 8; ++c)
+            grow_bounds(w, plm_xform_point(in->xform.m, v3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y,
+                                                           c & 4 ? hi.z : lo.z)));
+    }
+    rtcCommitScene(w->top);
+    if (s->instance_count == 0)
+        w->bounds_min = w->bounds_max = v3(0.0, 0.0, 0.0);
+}
+
+static void build_camera(plm_world *w)
+{
+    const plm_scene *s = w->scene;
+    plm_camera_desc d = s->camera;
+    if (!d.given) { /* frame the scene's bounding sphere from +z */
+        vec3 c = v3_scale(v3_add(w->bounds_min, w->bounds_max), 0.5);
+        double r = fmax(0.5 * v3_length(v3_sub(w->bounds_max, w->bounds_min)), 1e-3);
+        d.look_at = c;
+        d.position = v3_add(c, v3(0.0, 0.0, 1.05 * r / sin(plm_radians(0.5 * d.fov))));
+    }
+    plm_camera *cam = &w->camera;
+    cam->width = s->film.width;
+    cam->height = s->film.height;
+    cam->position = d.position;
+    cam->forward = v3_normalize(v3_sub(d.look_at, d.position));
+    vec3 right = v3_normalize(v3_cross(cam->forward, d.up));
+    vec3 up = v3_cross(right, cam->forward);
+    double tan_half = tan(plm_radians(0.5 * d.fov)), aspect = (double)cam->width / cam->height;
+    cam->right = v3_scale(right, tan_half * aspect);
+    cam->up = v3_scale(up, tan_half);
+    cam->lens_radius = d.aperture;
+    cam->focus_distance = d.focus_distance > 0.0 ? d.focus_distance : v3_length(v3_sub(d.look_at, d.position));
+}
+
+void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u2, vec3 *o, vec3 *d)
+{
+    double sx = 2.0 * x / c->width - 1.0, sy = 1.0 - 2.0 * y / c->height;
+    vec3 dir = v3_add(c->forward, v3_add(v3_scale(c->right, sx), v3_scale(c->up, sy)));
+    *o = c->position;
+    if (c->lens_radius > 0.0) {
+        /* Thin lens: rays through the lens point converge on the focus plane. */
+        vec3 focus = v3_madd(c->position, dir, c->focus_distance);
+        double r = c->lens_radius * sqrt(u1), phi = PLM_TWO_PI * u2;
+        *o = v3_add(*o, v3_add(v3_scale(v3_normalize(c->right), r * cos(phi)),
+                               v3_scale(v3_normalize(c->up), r * sin(phi))));
+        dir = v3_sub(focus, *o);
+    }
+    *d = v3_normalize(dir);
+}
+
+plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
+{
+    memset(w, 0, sizeof *w);
+    w->scene = scene;
+    w->device = rtcNewDevice(NULL);
+    if (!w->device)
+        return plm_fail(err, PLM_ERR_INTERNAL, "Embree: cannot create a device (error %d)",
+                        (int)rtcGetDeviceError(NULL));
+    plm_result rc = build_prototypes(w, err);
+    if (rc != PLM_OK) {
+        plm_world_free(w);
+        return rc;
+    }
+    build_instances(w);
+    build_camera(w);
+    double extent = fmax(fmax(fabs(w->bounds_min.x), fabs(w->bounds_max.x)),
+                         fmax(fmax(fabs(w->bounds_min.y), fabs(w->bounds_max.y)),
+                              fmax(fabs(w->bounds_min.z), fabs(w->bounds_max.z))));
+    w->epsilon = 1e-5 * fmax(1.0, extent); /* well above float rounding at that magnitude */
+    for (int i = 0; i < scene->material_count; ++i)
+        w->transmissive |= scene->materials[i].type == PLM_MATERIAL_FEATHER || scene->materials[i].transmission > 0.0;
+    w->lights = calloc((size_t)scene->light_count + 1, sizeof *w->lights);
+    if (!w->lights) {
+        plm_world_free(w);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    for (int i = 0; i < scene->light_count; ++i) {
+        rc = plm_render_light_init(&scene->lights[i], &w->lights[i], err);
+        w->light_count = i + 1;
+        if (rc != PLM_OK) {
+            plm_world_free(w);
+            return rc;
+        }
+        w->infinite_lights += plm_light_is_infinite(&w->lights[i]);
+    }
+    return PLM_OK;
+}
+
+void plm_world_free(plm_world *w)
+{
+    for (int i = 0; i < w->light_count; ++i)
+        plm_render_light_free(&w->lights[i]);
+    free(w->lights);
+    if (w->top)
+        rtcReleaseScene(w->top);
+    for (int i = 0; i < w->prototype_count; ++i)
+        rtcReleaseScene(w->prototypes[i].rtc);
+    free(w->prototypes);
+    free(w->instance_prototype);
+    if (w->device)
+        rtcReleaseDevice(w->device);
+    memset(w, 0, sizeof *w);
+}
+
+static void make_ray(struct RTCRay *r, vec3 o, vec3 d, double tmax)
+{
+    r->org_x = (float)o.x, r->org_y = (float)o.y, r->org_z = (float)o.z;
+    r->dir_x = (float)d.x, r->dir_y = (float)d.y, r->dir_z = (float)d.z;
+    r->tnear = 0.0f;
+    r->tfar = tmax < FLT_MAX ? (float)tmax : INFINITY;
+    r->time = 0.0f;
+    r->mask = 0xffffffffu;
+    r->id = 0;
+    r->flags = 0;
+}
+
+/* World-space surface state at barycentrics (b1, b2) of a triangle of an instance. */
+static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, plm_hit *hit)
+{
+    const plm_instance *in = &w->scene->instances[inst];
+    const plm_mesh *m = &w->scene->meshes[in->mesh].mesh;
+    const uint32_t *idx = m->indices + 3 * (size_t)prim;
+    double b0 = 1.0 - b1 - b2;
+    vec3 p0 = mesh_vec3(m->positions, idx[0]), p1 = mesh_vec3(m->positions, idx[1]);
+    vec3 p2 = mesh_vec3(m->positions, idx[2]);
+    vec3 p = v3_add(v3_add(v3_scale(p0, b0), v3_scale(p1, b1)), v3_scale(p2, b2));
+    hit->p = plm_xform_point(in->xform.m, p);
+    hit->ng = v3_normalize(plm_xform_normal(&in->xform, v3_cross(v3_sub(p1, p0), v3_sub(p2, p0))));
+    hit->n = hit->ng;
+    if (m->normals) {
+        vec3 n = v3_add(v3_add(v3_scale(mesh_vec3(m->normals, idx[0]), b0), v3_scale(mesh_vec3(m->normals, idx[1]), b1)),
+                        v3_scale(mesh_vec3(m->normals, idx[2]), b2));
+        n = plm_xform_normal(&in->xform, n);
+        if (v3_length(n) > 0.0)
+            hit->n = v3_normalize(n);
+        if (v3_dot(hit->n, hit->ng) < 0.0) /* the authored normal names the front (dorsal) side */
+            hit->ng = v3_neg(hit->ng);
+    }
+    hit->uv = triangle_uv(m, prim, b1, b2);
+    /* dP/du and dP/dv of the triangle's linear parameterisation (pbrt's). */
+    vec3 dpdu, dpdv;
+    double det = 0.0;
+    vec3 dp02 = v3_sub(p0, p2), dp12 = v3_sub(p1, p2);
+    double du02 = 0, dv02 = 0, du12 = 0, dv12 = 0;
+    if (m->uvs) {
+        vec2 t0 = mesh_vec2(m->uvs, idx[0]), t1 = mesh_vec2(m->uvs, idx[1]), t2 = mesh_vec2(m->uvs, idx[2]);
+        du02 = t0.x - t2.x, dv02 = t0.y - t2.y, du12 = t1.x - t2.x, dv12 = t1.y - t2.y;
+        det = du02 * dv12 - dv02 * du12;
+    }
+    if (fabs(det) > 1e-20) {
+        dpdu = v3_scale(v3_sub(v3_scale(dp02, dv12), v3_scale(dp12, dv02)), 1.0 / det);
+        dpdv = v3_scale(v3_sub(v3_scale(dp12, du02), v3_scale(dp02, du12)), 1.0 / det);
+        hit->dpdu = plm_xform_vector(in->xform.m, dpdu);
+        hit->dpdv = plm_xform_vector(in->xform.m, dpdv);
+    } else { /* no usable uvs: any tangent frame */
+        frame f = frame_from_z(hit->n);
+        hit->dpdu = f.x;
+        hit->dpdv = f.y;
+    }
+    hit->tint = in->tint;
+    hit->material = &w->scene->materials[in->material];
+}
+
+int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
+{
+    struct RTCRayHit rh;
+    make_ray(&rh.ray, o, d, tmax);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcIntersect1(w->top, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        return 0;
+    *t = rh.ray.tfar;
+    fill_hit(w, rh.hit.instID[0], rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+    return 1;
+}
+
+int plm_world_occluded(const plm_world *w, vec3 o, vec3 d, double tmax)
+{
+    struct RTCRay r;
+    make_ray(&r, o, d, tmax);
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcOccluded1(w->top, &ctx, &r);
+    return r.tfar == -INFINITY;
+}
+
+vec3 plm_world_offset(const plm_world *w, const plm_hit *hit, vec3 d)
+{
+    return v3_madd(hit->p, hit->ng, v3_dot(d, hit->ng) >= 0.0 ? w->epsilon : -w->epsilon);
+}

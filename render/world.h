@@ -1,0 +1,58 @@
+/* The scene prepared for rendering: an Embree scene per mesh prototype, a
+ * top-level scene of instances, lights with their sampling tables and the
+ * camera. Shared read-only by all render threads. */
+#ifndef PLUMAGE_RENDER_WORLD_H
+#define PLUMAGE_RENDER_WORLD_H
+
+#include <embree3/rtcore.h>
+
+#include "render/bsdf.h"
+#include "render/light.h"
+#include "render/scene.h"
+
+/* A mesh as Embree sees it, with the texture whose background texels its
+ * filter functions remove (NULL: nothing is removed). */
+typedef struct plm_prototype {
+    const plm_mesh *mesh;
+    const plm_feather_texture *mask;
+    RTCScene rtc;
+} plm_prototype;
+
+typedef struct plm_camera {
+    vec3 position, right, up, forward; /* right and up scaled to the image plane at distance 1 */
+    double lens_radius, focus_distance;
+    int width, height;
+} plm_camera;
+
+typedef struct plm_world {
+    const plm_scene *scene;
+    RTCDevice device;
+    RTCScene top;
+    plm_prototype *prototypes;
+    int prototype_count;
+    int *instance_prototype; /* per scene instance */
+    plm_render_light *lights;
+    int light_count;
+    int infinite_lights;     /* how many of them are environment lights */
+    plm_camera camera;
+    vec3 bounds_min, bounds_max;
+    double epsilon;          /* ray offset, scaled to the scene */
+    int transmissive;        /* some material lets light pass straight (shadow rays must look through it) */
+} plm_world;
+
+/* Builds everything; the scene must outlive the world. */
+plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err);
+void plm_world_free(plm_world *w);
+
+/* Closest surface along o + t d, t in (0, tmax). Fills hit (and *t); returns 0 on a miss. */
+int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit);
+/* Any opaque-or-not surface along the segment: a fast test when no material transmits. */
+int plm_world_occluded(const plm_world *w, vec3 o, vec3 d, double tmax);
+
+/* Camera ray through film position (x, y) in pixels (top-left origin), lens sample (u1, u2). */
+void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u2, vec3 *o, vec3 *d);
+
+/* A ray origin just off the surface at hit, on the side d leaves toward. */
+vec3 plm_world_offset(const plm_world *w, const plm_hit *hit, vec3 d);
+
+#endif
