@@ -29,32 +29,41 @@ static double erfinv(double y)
         double slope = two_over_sqrt_pi * exp(-x * x);
         if (!(slope > 0.0))
             break;
-        double residual = fabs(y) > 0.5 ? copysign((1.0 - fabs(y)) - erfc(fabs(x)), y) : erf(x) - y;
+        double sign = y < 0.0 ? -1.0 : 1.0;
+        double residual = fabs(y) > 0.5 ? sign * ((1.0 - fabs(y)) - erfc(sign * x)) : erf(x) - y;
         x -= residual / slope;
     }
     return x;
 }
 
+/* erf(x) for x >= 0, skipping the call where it is 1 to double precision. */
+static double erf_positive(double x) { return x > 6.0 ? 1.0 : erf(x); }
+
 /* 1 / (sqrt(2 pi) beta Z) where Z is the mass of N(Theta, beta) inside [-pi/2, pi/2]. */
 static double gm_scale(double Theta, double beta)
 {
     double s = 1.0 / (SQRT2 * beta);
-    double z = 0.5 * (erf((HALF_PI - Theta) * s) + erf((HALF_PI + Theta) * s));
+    double z = 0.5 * (erf_positive((HALF_PI - Theta) * s) + erf_positive((HALF_PI + Theta) * s));
     return 1.0 / (SQRT_2PI * beta * z);
 }
 
-/* Wrapped Gaussian on the circle; terms further than 10 beta (e^-50 relative) are skipped. */
-static double gn(double dphi, double beta)
+/* Wraps an angle difference of two angles in [-pi, pi] into [-pi, pi]. */
+static double wrap_pi(double d) { return d > PLM_PI ? d - PLM_TWO_PI : d < -PLM_PI ? d + PLM_TWO_PI : d; }
+
+/* Terms of a Gaussian further than this many std-devs (e^-50 relative) are skipped. */
+#define GAUSSIAN_CUTOFF 10.0
+
+/* sqrt(2 pi) beta G_N(dphi): the wrapped Gaussian on the circle, dphi in [-pi, pi]. */
+static double gn_unnormalised(double dphi, double beta)
 {
-    dphi = remainder(dphi, PLM_TWO_PI);
-    double sum = 0.0, cutoff = 10.0 * beta, inv2b2 = 0.5 / (beta * beta);
+    double sum = 0.0, cutoff = GAUSSIAN_CUTOFF * beta, inv2b2 = 0.5 / (beta * beta);
     int wraps = 1 + (int)(cutoff / PLM_TWO_PI);
     for (int k = -wraps; k <= wraps; ++k) {
         double d = dphi + PLM_TWO_PI * k;
         if (fabs(d) < cutoff)
             sum += exp(-d * d * inv2b2);
     }
-    return sum / (SQRT_2PI * beta);
+    return sum;
 }
 
 /* A uniform in [0, 1) to (-1, 1) for erfinv, never reaching the poles. */
@@ -109,10 +118,19 @@ static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *se
     *cos_theta = ct;
     if (!(ct > 1e-12))
         return 0;
-    double theta = atan2(wi.z, ct), phi = atan2(wi.y, wi.x), inv2b2 = 0.5 / (p->beta_m * p->beta_m);
+    double theta = atan2(wi.z, ct), phi = atan2(wi.y, wi.x);
+    double inv2bm2 = 0.5 / (p->beta_m * p->beta_m), inv2bn2 = 0.5 / (p->beta_n * p->beta_n);
+    double gn_scale = 1.0 / (SQRT_2PI * p->beta_n);
+    /* With beta_n < pi / cutoff only the unwrapped term of G_N can matter, and
+     * one exponential serves both detectors. */
+    int single_wrap = GAUSSIAN_CUTOFF * p->beta_n <= PLM_PI;
     for (int k = 0; k < set->count; ++k) {
-        double dt = theta - set->theta[k];
-        double d = set->gm_scale[k] * exp(-dt * dt * inv2b2) * gn(phi - set->phi[k], p->beta_n);
+        double dt = theta - set->theta[k], dp = wrap_pi(phi - set->phi[k]), d;
+        if (single_wrap)
+            d = fabs(dp) < GAUSSIAN_CUTOFF * p->beta_n ? exp(-dt * dt * inv2bm2 - dp * dp * inv2bn2) : 0.0;
+        else
+            d = exp(-dt * dt * inv2bm2) * gn_unnormalised(dp, p->beta_n);
+        d *= set->gm_scale[k] * gn_scale;
         *f_sum = rgb_add(*f_sum, rgb_scale(set->throughput[k], d));
         *p_sum += (set->cdf[k + 1] - set->cdf[k]) * d;
     }
@@ -148,6 +166,7 @@ int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, d
         ++k;
     double theta = sample_gm(set->theta[k], p->beta_m, u1);
     double phi = remainder(set->phi[k] + SQRT2 * p->beta_n * erfinv(to_open_symmetric(u2)), PLM_TWO_PI);
+    /* remainder(): the sampled offset may wrap several times when beta_n is large. */
     vec3 wi = plm_fiber_direction(theta, phi);
     rgb f;
     double s, ct;

@@ -12,8 +12,6 @@
 
 #include <stddef.h>
 
-#include "render/sampling.h"
-
 void plm_fiber_params_default(plm_fiber_params *p)
 {
     p->eccentricity = 1.0;
@@ -104,20 +102,22 @@ plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err)
 
 /* ---- optics -------------------------------------------------------------- */
 
-/* Unpolarised Fresnel reflectance for cos_i > 0 and eta = n_t / n_i; also
- * returns cos_t (meaningless under total internal reflection, which gives 1). */
-static double fresnel(double cos_i, double eta, double *cos_t)
+/* Unpolarised Fresnel reflectance for cos_i > 0 and eta = n_t / n_i (inv_eta2
+ * = 1 / eta^2); also returns cos_t (meaningless under total internal
+ * reflection, which gives 1). The two amplitude ratios share one division. */
+static double fresnel(double cos_i, double eta, double inv_eta2, double *cos_t)
 {
-    double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    double sin2_t = (1.0 - cos_i * cos_i) * inv_eta2;
     if (sin2_t >= 1.0) {
         *cos_t = 0.0;
         return 1.0;
     }
     double ct = sqrt(1.0 - sin2_t);
-    double rs = (cos_i - eta * ct) / (cos_i + eta * ct);
-    double rp = (eta * cos_i - ct) / (eta * cos_i + ct);
+    double s_num = cos_i - eta * ct, s_den = cos_i + eta * ct; /* r_s = s_num / s_den */
+    double p_num = eta * cos_i - ct, p_den = eta * cos_i + ct; /* r_p = p_num / p_den */
     *cos_t = ct;
-    return 0.5 * (rs * rs + rp * rp);
+    double sp = s_den * p_den;
+    return 0.5 * (plm_sqr(s_num * p_den) + plm_sqr(p_num * s_den)) / (sp * sp);
 }
 
 /* Refraction of d through an interface with normal n on the incident side
@@ -131,13 +131,22 @@ static vec3 reflect(vec3 d, vec3 n) { return v3_madd(d, n, -2.0 * v3_dot(d, n));
 
 /* ---- geometry ------------------------------------------------------------ */
 
-typedef struct ellipse { double cx, cy, a, b; } ellipse;
+/* An ellipse with centre (cx, cy) and semi-axes a, b along x, y; "unit-circle
+ * coordinates" of a point are ((x - cx) / a, (y - cy) / b). The inverses save
+ * divisions in the inner loop. */
+typedef struct ellipse { double cx, cy, a, b, inv_a, inv_b; } ellipse;
+
+static ellipse ellipse_make(double cx, double cy, double a, double b)
+{
+    ellipse el = {cx, cy, a, b, a > 0.0 ? 1.0 / a : 0.0, b > 0.0 ? 1.0 / b : 0.0};
+    return el;
+}
 
 /* Outward unit normal (in the cross-section) at a point of the ellipse given
  * in its unit-circle coordinates (X, Y). */
 static vec3 ellipse_normal(const ellipse *el, double X, double Y)
 {
-    double nx = X / el->a, ny = Y / el->b, inv = 1.0 / sqrt(nx * nx + ny * ny);
+    double nx = X * el->inv_a, ny = Y * el->inv_b, inv = 1.0 / sqrt(nx * nx + ny * ny);
     return v3(nx * inv, ny * inv, 0.0);
 }
 
@@ -146,13 +155,14 @@ static vec3 ellipse_normal(const ellipse *el, double X, double Y)
  * the ray leaves it; 0 if it does not get anywhere (tangent). */
 static double ellipse_exit(const ellipse *el, vec2 pos, vec3 d, int on_boundary)
 {
-    double X = (pos.x - el->cx) / el->a, Y = (pos.y - el->cy) / el->b;
-    double DX = d.x / el->a, DY = d.y / el->b;
+    double X = (pos.x - el->cx) * el->inv_a, Y = (pos.y - el->cy) * el->inv_b;
+    double DX = d.x * el->inv_a, DY = d.y * el->inv_b;
     double A = DX * DX + DY * DY, B = X * DX + Y * DY;
-    double C = on_boundary ? 0.0 : fmin(X * X + Y * Y - 1.0, 0.0);
     if (!(A > 0.0))
         return 0.0; /* travelling along the axis: never reaches the boundary */
-    double root = sqrt(B * B - A * C);
+    if (on_boundary)
+        return B < 0.0 ? -2.0 * B / A : 0.0;
+    double C = fmin(X * X + Y * Y - 1.0, 0.0), root = sqrt(B * B - A * C);
     return B <= 0.0 ? (root - B) / A : -C / (B + root); /* the two stable forms of the far root */
 }
 
@@ -160,8 +170,8 @@ static double ellipse_exit(const ellipse *el, vec2 pos, vec3 d, int on_boundary)
  * or INFINITY when it misses. */
 static double ellipse_enter(const ellipse *el, vec2 pos, vec3 d)
 {
-    double X = (pos.x - el->cx) / el->a, Y = (pos.y - el->cy) / el->b;
-    double DX = d.x / el->a, DY = d.y / el->b;
+    double X = (pos.x - el->cx) * el->inv_a, Y = (pos.y - el->cy) * el->inv_b;
+    double DX = d.x * el->inv_a, DY = d.y * el->inv_b;
     double A = DX * DX + DY * DY, B = X * DX + Y * DY, C = X * X + Y * Y - 1.0;
     if (B >= 0.0 || C <= 0.0)
         return INFINITY;
@@ -169,13 +179,15 @@ static double ellipse_enter(const ellipse *el, vec2 pos, vec3 d)
     return disc > 0.0 ? C / (sqrt(disc) - B) : INFINITY;
 }
 
-/* Puts a point that rounding moved off the ellipse back onto it; returns the
- * unit-circle coordinates through X, Y. */
+/* Puts an intersection point that rounding moved a few ulps off the ellipse
+ * back onto it (one Newton step of 1/sqrt(r^2) about 1, which is exact to
+ * rounding that close); returns the unit-circle coordinates through X, Y. */
 static vec2 ellipse_snap(const ellipse *el, vec2 pos, double *X, double *Y)
 {
-    double x = (pos.x - el->cx) / el->a, y = (pos.y - el->cy) / el->b, inv = 1.0 / sqrt(x * x + y * y);
-    *X = x * inv;
-    *Y = y * inv;
+    double x = (pos.x - el->cx) * el->inv_a, y = (pos.y - el->cy) * el->inv_b;
+    double scale = 0.5 * (3.0 - (x * x + y * y));
+    *X = x * scale;
+    *Y = y * scale;
     return v2(el->cx + el->a * *X, el->cy + el->b * *Y);
 }
 
@@ -220,7 +232,7 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
                              &PX, &PY);
     vec3 n = ellipse_normal(cortex, PX, PY);
     double cos_i = fmax(-v3_dot(d, n), 0.0), cos_t;
-    double f = fresnel(cos_i, p->eta, &cos_t);
+    double f = fresnel(cos_i, p->eta, 1.0 / (p->eta * p->eta), &cos_t);
     lobe0->dir = reflect(d, n);
     lobe0->throughput = rgb_gray(f);
     path->dir = refract(d, n, cos_i, cos_t, 1.0 / p->eta);
@@ -229,14 +241,22 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
     path->length = 0.0;
 }
 
-/* Lambertian bounce off the medulla at path->pos. */
+/* Lambertian bounce off the medulla at path->pos: a cosine-distributed 3D
+ * direction about its normal n, which lies in the cross-section, so
+ * (n x z, z, n) is an orthonormal frame with no normalisation to do. The disk
+ * point comes by rejection (Malley's method without trigonometry). */
 static void medulla_bounce(const plm_fiber_params *p, const ellipse *medulla, plm_rng *rng, fiber_path *path)
 {
-    double X, Y;
+    double X, Y, dx, dy, r2;
     path->pos = ellipse_snap(medulla, path->pos, &X, &Y);
-    frame f = frame_from_z(ellipse_normal(medulla, X, Y));
-    double u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
-    path->dir = v3_normalize(frame_to_world(&f, plm_sample_cosine_hemisphere(u1, u2)));
+    vec3 n = ellipse_normal(medulla, X, Y);
+    do {
+        dx = 2.0 * plm_rng_uniform(rng) - 1.0;
+        dy = 2.0 * plm_rng_uniform(rng) - 1.0;
+        r2 = dx * dx + dy * dy;
+    } while (r2 >= 1.0);
+    double dz = sqrt(1.0 - r2);
+    path->dir = v3(dx * n.y + dz * n.x, -dx * n.x + dz * n.y, dy);
     path->tint = rgb_mul(path->tint, p->medulla_reflectance);
 }
 
@@ -247,8 +267,9 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
         *inside = rgb_gray(0.0);
     if (max_lobes < 1 || !(wo.x * wo.x + wo.y * wo.y > 0.0))
         return 0; /* light along the axis never meets the cross-section */
-    ellipse cortex = {0.0, 0.0, 1.0, p->eccentricity};
-    ellipse medulla = {p->medulla_ca, p->medulla_cb, p->medulla_a, p->medulla_b};
+    ellipse cortex = ellipse_make(0.0, 0.0, 1.0, p->eccentricity);
+    ellipse medulla = ellipse_make(p->medulla_ca, p->medulla_cb, p->medulla_a, p->medulla_b);
+    const double inv_eta = 1.0 / p->eta, eta2 = p->eta * p->eta; /* leaving: n_t / n_i = 1 / eta */
     int has_medulla = plm_fiber_has_medulla(p);
     fiber_path path;
     enter(p, &cortex, wo, plm_clamp(h, -1.0, 1.0), &lobes[0], &path);
@@ -277,9 +298,9 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
         on_cortex = 1;
         vec3 n = ellipse_normal(&cortex, X, Y);
         double cos_i = fmax(v3_dot(path.dir, n), 0.0), cos_t;
-        double f = fresnel(cos_i, 1.0 / p->eta, &cos_t);
+        double f = fresnel(cos_i, inv_eta, eta2, &cos_t);
         if (f < 1.0) { /* part leaves the cortex: a lobe */
-            lobes[count].dir = v3_normalize(refract(path.dir, v3_neg(n), cos_i, cos_t, p->eta));
+            lobes[count].dir = refract(path.dir, v3_neg(n), cos_i, cos_t, p->eta);
             lobes[count].throughput = path_throughput(p, &path, 1.0 - f);
             ++count;
         }

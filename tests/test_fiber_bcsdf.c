@@ -1,0 +1,272 @@
+/* The fiber BCSDF's evaluation from lobe sets: white furnace, sampling
+ * against pdf (chi-square), sample weights, reproducibility, and a sweep for
+ * non-finite output. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "render/fiber.h"
+
+/* Fig. 7 parameters (REFERENCES.md) with a chosen cross-section variant:
+ * 0 circular, 1 elliptical e = 1.6, 2 concentric medulla r = 0.6, 3 medulla at (-0.1, 0.1). */
+static plm_fiber_params figure7(int variant)
+{
+    plm_fiber_params p;
+    plm_fiber_params_default(&p);
+    p.eta = 1.53;
+    p.sigma_a = rgb_make(0.133, 1.967, 2.1);
+    p.beta_m = 0.13;
+    p.beta_n = 0.12;
+    p.eccentricity = variant == 0 ? 1.0 : 1.6;
+    if (variant >= 2) {
+        p.medulla_a = p.medulla_b = 0.6;
+        p.medulla_ca = variant == 3 ? -0.1 : 0.0;
+        p.medulla_cb = variant == 3 ? 0.1 : 0.0;
+    }
+    assert_int_equal(plm_fiber_params_validate(&p, NULL), PLM_OK);
+    return p;
+}
+
+static double set_energy(const plm_fiber_lobe_set *set, int channel)
+{
+    double s = 0.0;
+    for (int k = 0; k < set->count; ++k)
+        s += channel == 0 ? set->throughput[k].r : channel == 1 ? set->throughput[k].g : set->throughput[k].b;
+    return s;
+}
+
+/* Midpoint rule over a (theta, phi) rectangle of eval(wi) cos(theta) dw =
+ * eval cos^2 dtheta dphi (channel 0..2), or of pdf dw = pdf cos dtheta dphi (channel 3). */
+static double integrate_sphere(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int channel, double t0,
+                               double t1, double f0, double f1, int nt, int nf)
+{
+    double sum = 0.0, dt = (t1 - t0) / nt, df = (f1 - f0) / nf;
+    for (int i = 0; i < nt; ++i) {
+        double theta = t0 + (i + 0.5) * dt, c = cos(theta);
+        for (int j = 0; j < nf; ++j) {
+            vec3 wi = plm_fiber_direction(theta, f0 + (j + 0.5) * df);
+            if (channel == 3) {
+                sum += plm_fiber_pdf(p, set, wi) * c;
+            } else {
+                rgb e = plm_fiber_eval(p, set, wi);
+                sum += (channel == 0 ? e.r : channel == 1 ? e.g : e.b) * c * c;
+            }
+        }
+    }
+    return sum * dt * df;
+}
+
+/* With sigma_a = 0 the integral of eval cos over the sphere is the lobe
+ * energy of the set (1 minus what stayed inside), for any roughness,
+ * eccentricity and direction; and the pdf integrates to 1. */
+static void white_furnace(void **state)
+{
+    (void)state;
+    const double betas[] = {0.05, 0.13, 0.4, 1.2};
+    const double eccentricities[] = {1.0, 1.6, 3.0};
+    const double thetas[] = {10.0, -80.0};
+    plm_rng rng;
+    plm_rng_seed(&rng, 21, 0);
+    for (int b = 0; b < 4; ++b)
+        for (int e = 0; e < 3; ++e)
+            for (int t = 0; t < 2; ++t) {
+                plm_fiber_params p = figure7(e == 1 ? 3 : 0);
+                p.sigma_a = rgb_gray(0.0);
+                p.eccentricity = eccentricities[e];
+                p.beta_m = betas[b];
+                p.beta_n = betas[(b + t) % 4];
+                vec3 wo = plm_fiber_direction(plm_radians(thetas[t]), plm_radians(30.0 * t));
+                plm_fiber_lobe_set set;
+                plm_fiber_prepare(&p, wo, -1.0, 1.0, &rng, &set);
+                double energy = set_energy(&set, 0);
+                assert_true(energy > 0.5 && energy <= 1.0 + 1e-12);
+                double integral = integrate_sphere(&p, &set, 0, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 240, 480);
+                double pdf_integral =
+                    integrate_sphere(&p, &set, 3, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 240, 480);
+                if (fabs(integral - energy) > 1e-3 * energy || fabs(pdf_integral - 1.0) > 1e-3) {
+                    fprintf(stderr, "beta %g/%g e %g theta %g: integral %.6f energy %.6f pdf %.6f\n", p.beta_m,
+                            p.beta_n, p.eccentricity, thetas[t], integral, energy, pdf_integral);
+                    fail();
+                }
+            }
+}
+
+/* Upper tail of the chi-square distribution (Wilson-Hilferty cube-root
+ * normal approximation, accurate for the hundreds of degrees of freedom here). */
+static double chi2_p_value(double chi2, int dof)
+{
+    double k = dof, z = (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+    return 0.5 * erfc(z / sqrt(2.0));
+}
+
+enum { THETA_BINS = 80, PHI_BINS = 160 };
+
+/* pbrt-v4's test: histogram plm_fiber_sample over an 80 x 160 grid of
+ * (theta, phi), integrate plm_fiber_pdf over each cell, pool cells expecting
+ * fewer than 5 samples, and compare with Pearson's chi-square. Returns the p-value. */
+static double chi_square_p_value(const plm_fiber_params *p, const plm_fiber_lobe_set *set, plm_rng *rng,
+                                 int n_samples)
+{
+    static double observed[THETA_BINS * PHI_BINS], expected[THETA_BINS * PHI_BINS];
+    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i)
+        observed[i] = 0.0;
+    const double dt = PLM_PI / THETA_BINS, df = PLM_TWO_PI / PHI_BINS;
+    for (int s = 0; s < n_samples; ++s) {
+        plm_fiber_sample_rec rec;
+        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
+        assert_true(plm_fiber_sample(p, set, u0, u1, u2, &rec));
+        /* The record agrees with pdf and eval. */
+        double pdf = plm_fiber_pdf(p, set, rec.wi);
+        rgb f = plm_fiber_eval(p, set, rec.wi);
+        double c = sqrt(rec.wi.x * rec.wi.x + rec.wi.y * rec.wi.y);
+        assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
+        assert_true(fabs(rec.weight.g - f.g * c / pdf) <= 1e-9 * (rec.weight.g + 1e-300));
+        double theta = asin(plm_clamp(rec.wi.z, -1.0, 1.0)), phi = atan2(rec.wi.y, rec.wi.x);
+        int it = (int)((theta + 0.5 * PLM_PI) / dt), ip = (int)((phi + PLM_PI) / df);
+        it = it < 0 ? 0 : it >= THETA_BINS ? THETA_BINS - 1 : it;
+        ip = ip < 0 ? 0 : ip >= PHI_BINS ? PHI_BINS - 1 : ip;
+        observed[it * PHI_BINS + ip] += 1.0;
+    }
+    for (int it = 0; it < THETA_BINS; ++it)
+        for (int ip = 0; ip < PHI_BINS; ++ip) {
+            double t0 = -0.5 * PLM_PI + it * dt, f0 = -PLM_PI + ip * df;
+            expected[it * PHI_BINS + ip] = n_samples * integrate_sphere(p, set, 3, t0, t0 + dt, f0, f0 + df, 6, 6);
+        }
+    double chi2 = 0.0, pooled_expected = 0.0, pooled_observed = 0.0;
+    int dof = 0;
+    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i) {
+        if (expected[i] == 0.0 && observed[i] > 0.0)
+            return 0.0; /* samples where the pdf says there can be none */
+        if (expected[i] < 5.0) {
+            pooled_expected += expected[i];
+            pooled_observed += observed[i];
+        } else {
+            chi2 += plm_sqr(observed[i] - expected[i]) / expected[i];
+            ++dof;
+        }
+    }
+    if (pooled_expected > 0.0) {
+        chi2 += plm_sqr(pooled_observed - pooled_expected) / pooled_expected;
+        ++dof;
+    }
+    return chi2_p_value(chi2, dof - 1);
+}
+
+/* The four Fig. 7 fibers at their incidence, and two rough, very elliptical
+ * ones at other directions (slow_fiber.c runs many more). */
+static void sampling_matches_pdf(void **state)
+{
+    (void)state;
+    enum { N_TESTS = 6 };
+    const double alpha = 0.01, threshold = 1.0 - pow(1.0 - alpha, 1.0 / N_TESTS); /* Sidak */
+    plm_rng rng;
+    plm_rng_seed(&rng, 77, 0);
+    for (int t = 0; t < N_TESTS; ++t) {
+        plm_fiber_params p = figure7(t % 4);
+        if (t >= 4) { /* rough and very elliptical */
+            p.beta_m = 0.6;
+            p.beta_n = 0.9;
+            p.eccentricity = 3.0;
+        }
+        vec3 wo = plm_fiber_direction(plm_radians(t == 5 ? -75.0 : 45.0), plm_radians(20.0 * t));
+        plm_fiber_lobe_set set;
+        plm_fiber_prepare(&p, wo, -1.0, 1.0, &rng, &set);
+        double pv = chi_square_p_value(&p, &set, &rng, 400000);
+        fprintf(stderr, "chi-square test %d: %d lobes, p-value %.4f (threshold %.5f)\n", t, set.count, pv,
+                threshold);
+        assert_true(pv > threshold);
+    }
+}
+
+/* Same seed, same set and values; eval and pdf are deterministic given the set. */
+static void lobe_sets_are_reproducible(void **state)
+{
+    (void)state;
+    plm_fiber_params p = figure7(3);
+    vec3 wo = plm_fiber_direction(0.3, 1.0), wi = plm_fiber_direction(-0.3, 2.0);
+    plm_fiber_lobe_set a, b;
+    plm_rng ra, rb;
+    plm_rng_seed(&ra, 4, 2);
+    plm_rng_seed(&rb, 4, 2);
+    for (int i = 0; i < 100; ++i) {
+        plm_fiber_prepare(&p, wo, -0.5, 0.7, &ra, &a);
+        plm_fiber_prepare(&p, wo, -0.5, 0.7, &rb, &b);
+        assert_true(a.h >= -0.5 && a.h <= 0.7);
+        assert_int_equal(a.count, b.count);
+        rgb fa = plm_fiber_eval(&p, &a, wi), fb = plm_fiber_eval(&p, &b, wi);
+        assert_true(fa.r == fb.r && fa.g == fb.g && fa.b == fb.b);
+        assert_true(plm_fiber_pdf(&p, &a, wi) == plm_fiber_pdf(&p, &b, wi));
+        assert_true(plm_fiber_pdf(&p, &a, wi) == plm_fiber_pdf(&p, &a, wi));
+    }
+}
+
+/* Random valid parameters, directions (poles and grazing included), entry
+ * ranges and sample numbers (0 and 1 - eps included): nothing non-finite or
+ * negative comes out. */
+static void no_non_finite_output(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 99, 0);
+    int queries = 0;
+    const double edge_u[] = {0.0, 0x1.fffffffffffffp-1, 0.5};
+    while (queries < 20000) {
+        plm_fiber_params p;
+        plm_fiber_params_default(&p);
+        p.eccentricity = 0.05 + 8.0 * plm_rng_uniform(&rng);
+        p.eta = 1.0 + 2.0 * plm_rng_uniform(&rng);
+        p.sigma_a = rgb_make(40.0 * plm_rng_uniform(&rng), plm_rng_uniform(&rng), 0.0);
+        p.beta_m = plm_radians(0.5 + 89.5 * plm_rng_uniform(&rng));
+        p.beta_n = plm_radians(0.5 + 89.5 * plm_rng_uniform(&rng));
+        p.lobes = 1 + (int)(plm_rng_uniform(&rng) * PLM_FIBER_SET_MAX_LOBES);
+        if (plm_rng_uniform(&rng) < 0.6) {
+            p.medulla_a = 0.01 + 0.9 * plm_rng_uniform(&rng);
+            p.medulla_b = 0.01 + 0.9 * p.eccentricity * plm_rng_uniform(&rng);
+            p.medulla_ca = plm_rng_uniform(&rng) - 0.5;
+            p.medulla_cb = p.eccentricity * (plm_rng_uniform(&rng) - 0.5);
+            p.medulla_reflectance = rgb_make(plm_rng_uniform(&rng), 1.0, 0.0);
+        }
+        if (plm_fiber_params_validate(&p, NULL) != PLM_OK)
+            continue;
+        for (int q = 0; q < 20; ++q, ++queries) {
+            double theta_o = q == 0 ? 0.5 * PLM_PI : q == 1 ? -0.5 * PLM_PI + 1e-9 : asin(2.0 * plm_rng_uniform(&rng) - 1.0);
+            vec3 wo = plm_fiber_direction(theta_o, PLM_TWO_PI * plm_rng_uniform(&rng));
+            double h0 = q == 2 ? 1.0 : 2.0 * plm_rng_uniform(&rng) - 1.0, h1 = q == 3 ? h0 : 1.0;
+            plm_fiber_lobe_set set;
+            plm_fiber_prepare(&p, wo, fmin(h0, h1), fmax(h0, h1), &rng, &set);
+            for (int k = 0; k < set.count; ++k)
+                assert_true(rgb_is_finite(set.throughput[k]) && isfinite(set.theta[k]) && isfinite(set.gm_scale[k]));
+            double theta_i = q == 4 ? 0.5 * PLM_PI : asin(2.0 * plm_rng_uniform(&rng) - 1.0);
+            vec3 wi = plm_fiber_direction(theta_i, PLM_TWO_PI * plm_rng_uniform(&rng));
+            rgb f = plm_fiber_eval(&p, &set, wi);
+            double pdf = plm_fiber_pdf(&p, &set, wi);
+            assert_true(rgb_is_finite(f) && f.r >= 0.0 && f.g >= 0.0 && f.b >= 0.0);
+            assert_true(isfinite(pdf) && pdf >= 0.0);
+            plm_fiber_sample_rec rec;
+            double u0 = q < 3 ? edge_u[q] : plm_rng_uniform(&rng);
+            double u1 = q < 3 ? edge_u[(q + 1) % 3] : plm_rng_uniform(&rng);
+            double u2 = q < 3 ? edge_u[(q + 2) % 3] : plm_rng_uniform(&rng);
+            if (plm_fiber_sample(&p, &set, u0, u1, u2, &rec)) {
+                assert_true(rgb_is_finite(rec.weight) && rec.weight.r >= 0.0);
+                assert_true(isfinite(rec.pdf) && rec.pdf > 0.0);
+                assert_true(fabs(v3_length(rec.wi) - 1.0) < 1e-9);
+            }
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(white_furnace),
+        cmocka_unit_test(sampling_matches_pdf),
+        cmocka_unit_test(lobe_sets_are_reproducible),
+        cmocka_unit_test(no_non_finite_output),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
