@@ -1,0 +1,476 @@
+/* The path tracer against answers known in advance: analytic scenes, a
+ * furnace, estimators that must agree, transparent shadows, the mask
+ * filters, light sampling densities, and bit-identical images at any thread
+ * count. Statistical checks use a z-test on independent samples. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render.h"
+
+/* ---------- scene building ---------- */
+
+static int add_quad_mesh(plm_scene *s, const char *name, double w, double h, double curl)
+{
+    plm_mesh m;
+    plm_error err;
+    assert_int_equal(plm_shape_quad(w, h, curl, 64, &m, &err), PLM_OK);
+    return plm_scene_add_mesh(s, name, &m);
+}
+
+static int add_sphere_mesh(plm_scene *s, const char *name, double r)
+{
+    plm_mesh m;
+    plm_error err;
+    assert_int_equal(plm_shape_sphere(r, 48, &m, &err), PLM_OK);
+    return plm_scene_add_mesh(s, name, &m);
+}
+
+static int add_diffuse(plm_scene *s, const char *name, rgb reflectance, double transmission)
+{
+    plm_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "%s", name);
+    m.type = PLM_MATERIAL_DIFFUSE;
+    m.reflectance = reflectance;
+    m.transmission = transmission;
+    return plm_scene_add_material(s, &m);
+}
+
+static void add_object(plm_scene *s, int mesh, int material, plm_xform x)
+{
+    plm_instance in = {mesh, material, x, rgb_gray(1.0)};
+    assert_true(plm_scene_add_instance(s, &in) >= 0);
+}
+
+/* A quad of the xy plane turned to face +y at height y. */
+static plm_xform floor_at(double y)
+{
+    plm_xform r = plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2), t = plm_xform_translate(v3(0, y, 0));
+    return plm_xform_compose(&t, &r);
+}
+
+static void add_light(plm_scene *s, plm_light l) { assert_true(plm_scene_add_light(s, &l) >= 0); }
+
+static plm_light constant_env(double radiance)
+{
+    plm_light l;
+    memset(&l, 0, sizeof l);
+    l.type = PLM_LIGHT_CONSTANT_ENV;
+    l.radiance = rgb_gray(radiance);
+    return l;
+}
+
+static void look(plm_scene *s, vec3 from, vec3 at, vec3 up, double fov, int width, int height, int spp)
+{
+    s->camera.position = from;
+    s->camera.look_at = at;
+    s->camera.up = up;
+    s->camera.fov = fov;
+    s->camera.given = 1;
+    s->film.width = width;
+    s->film.height = height;
+    s->film.spp = spp;
+}
+
+/* ---------- statistics ---------- */
+
+typedef struct estimate { double mean, se; } estimate;
+
+/* Mean radiance (channel mean) over the film: n independent samples, each
+ * from a uniformly random film position, so the standard error is honest. */
+static estimate film_mean(const plm_world *w, plm_estimator est, int max_depth, long n, uint64_t seed)
+{
+    double sum = 0.0, sum2 = 0.0;
+    for (long i = 0; i < n; ++i) {
+        plm_rng rng;
+        plm_rng_seed(&rng, plm_hash64(seed, (uint64_t)i, 99), 3);
+        double x = plm_rng_uniform(&rng) * w->camera.width, y = plm_rng_uniform(&rng) * w->camera.height;
+        vec3 o, d;
+        plm_camera_ray(&w->camera, x, y, 0.5, 0.5, &o, &d);
+        rgb l = plm_path_radiance(w, o, d, max_depth, est, &rng);
+        assert_true(rgb_is_finite(l));
+        double v = rgb_mean(l);
+        sum += v;
+        sum2 += v * v;
+    }
+    estimate e;
+    e.mean = sum / n;
+    e.se = sqrt(fmax(sum2 / n - e.mean * e.mean, 0.0) / n);
+    return e;
+}
+
+static void assert_agree(estimate a, estimate b, double z_max)
+{
+    double z = fabs(a.mean - b.mean) / sqrt(a.se * a.se + b.se * b.se + 1e-30);
+    if (z > z_max)
+        fail_msg("estimates disagree: %.6f +- %.6f vs %.6f +- %.6f (z = %.2f)", a.mean, a.se, b.mean, b.se, z);
+}
+
+static double film_channel_mean(const plm_film *f, int c)
+{
+    double sum = 0.0;
+    for (int i = 0; i < f->width * f->height; ++i)
+        sum += f->rgb[3 * i + c];
+    return sum / (f->width * f->height);
+}
+
+/* ---------- tests ---------- */
+
+/* A diffuse plane under a constant environment L reflects albedo * L (it
+ * sees only the sky's upper half: E = pi L, and (albedo / pi) E). */
+static void diffuse_plane_under_constant_sky(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    rgb albedo = rgb_make(0.8, 0.5, 0.2);
+    add_object(&s, add_quad_mesh(&s, "floor", 200, 200, 0), add_diffuse(&s, "d", albedo, 0.0), floor_at(0));
+    add_light(&s, constant_env(1.5));
+    look(&s, v3(0, 3, 0), v3(0, 0, 0), v3(0, 0, -1), 30, 24, 24, 32);
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate e = film_mean(&w, PLM_ESTIMATOR_MIS, 4, 40000, 1);
+    estimate expected = {rgb_mean(albedo) * 1.5, 0.0};
+    assert_agree(e, expected, 4.0);
+    assert_true(fabs(e.mean / expected.mean - 1.0) < 0.01);
+
+    plm_render_options opt = {0};
+    plm_film film;
+    assert_int_equal(plm_render_world(&w, &opt, &film, &err), PLM_OK);
+    assert_int_equal(film.nonfinite, 0);
+    assert_false(film.interrupted);
+    double want[3] = {albedo.r * 1.5, albedo.g * 1.5, albedo.b * 1.5};
+    for (int c = 0; c < 3; ++c)
+        assert_true(fabs(film_channel_mean(&film, c) / want[c] - 1.0) < 0.02);
+    plm_film_free(&film);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+/* Under a distant light of irradiance E at 60 degrees from the normal, every
+ * sample is exact: albedo / pi * E cos(60). */
+static void diffuse_plane_under_distant_light(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    rgb albedo = rgb_make(0.5, 0.25, 0.75);
+    add_object(&s, add_quad_mesh(&s, "floor", 200, 200, 0), add_diffuse(&s, "d", albedo, 0.0), floor_at(0));
+    plm_light sun;
+    memset(&sun, 0, sizeof sun);
+    sun.type = PLM_LIGHT_DISTANT;
+    sun.direction = v3(sin(PLM_PI / 3), cos(PLM_PI / 3), 0.0);
+    sun.irradiance = rgb_make(2.0, 3.0, 1.0);
+    add_light(&s, sun);
+    look(&s, v3(0, 3, 0), v3(0, 0, 0), v3(0, 0, -1), 30, 16, 16, 4);
+    plm_render_options opt = {0};
+    plm_film film;
+    plm_error err;
+    assert_int_equal(plm_render(&s, &opt, &film, &err), PLM_OK);
+    double want[3] = {albedo.r / PLM_PI * 2.0 * 0.5, albedo.g / PLM_PI * 3.0 * 0.5, albedo.b / PLM_PI * 1.0 * 0.5};
+    for (int i = 0; i < 16 * 16; ++i)
+        for (int c = 0; c < 3; ++c)
+            assert_float_equal(film.rgb[3 * i + c], want[c], 1e-5 * want[c]);
+    assert_int_equal(film.nonfinite, 0);
+    plm_film_free(&film);
+    plm_scene_free(&s);
+}
+
+/* A small lat-long map with a bright patch, for the environment-map tests. */
+static plm_light test_env_map(void)
+{
+    plm_light l;
+    memset(&l, 0, sizeof l);
+    l.type = PLM_LIGHT_ENV_MAP;
+    l.radiance = rgb_gray(1.0);
+    l.rotation = 0.3;
+    plm_image *im = &l.image;
+    im->width = 32, im->height = 16, im->channels = 3;
+    im->pixels = malloc(sizeof(float) * 32 * 16 * 3);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x) {
+            float *p = im->pixels + 3 * (y * 32 + x);
+            int sun = x >= 20 && x < 23 && y >= 3 && y < 5;
+            p[0] = sun ? 40.0f : 0.2f + 0.02f * x;
+            p[1] = sun ? 30.0f : 0.3f;
+            p[2] = sun ? 20.0f : 0.5f - 0.02f * y;
+        }
+    return l;
+}
+
+/* A diffuse floor with a ball, lit by a quad light, a sphere light and an
+ * environment map: a scene on which every estimator must agree. */
+static void lit_room(plm_scene *s, double sheet_transmission)
+{
+    plm_scene_init(s);
+    add_object(s, add_quad_mesh(s, "floor", 20, 20, 0), add_diffuse(s, "grey", rgb_make(0.6, 0.5, 0.4), 0.0),
+               floor_at(0));
+    plm_xform ball = plm_xform_translate(v3(0.3, 0.5, 0.0));
+    add_object(s, add_sphere_mesh(s, "ball", 0.5), add_diffuse(s, "red", rgb_make(0.7, 0.2, 0.2), 0.0), ball);
+    if (sheet_transmission > 0.0) /* a perforated sheet over everything */
+        add_object(s, add_quad_mesh(s, "sheet", 4, 4, 0),
+                   add_diffuse(s, "sheet", rgb_gray(0.3), sheet_transmission), floor_at(1.5));
+    plm_light q;
+    memset(&q, 0, sizeof q);
+    q.type = PLM_LIGHT_QUAD;
+    q.corner = v3(-0.6, 2.5, -0.6);
+    q.edge_u = v3(1.2, 0, 0);
+    q.edge_v = v3(0, 0, 1.2); /* edge_u x edge_v points down */
+    q.radiance = rgb_make(4, 4, 3);
+    add_light(s, q);
+    plm_light sp;
+    memset(&sp, 0, sizeof sp);
+    sp.type = PLM_LIGHT_SPHERE;
+    sp.center = v3(-2, 1.2, 1);
+    sp.radius = 0.4;
+    sp.radiance = rgb_make(2, 3, 4);
+    add_light(s, sp);
+    add_light(s, test_env_map());
+    look(s, v3(0, 1.0, 3.0), v3(0, 0.3, 0), v3(0, 1, 0), 50, 32, 24, 8);
+}
+
+static void estimators_agree(void **state)
+{
+    (void)state;
+    plm_scene s;
+    lit_room(&s, 0.0);
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate mis = film_mean(&w, PLM_ESTIMATOR_MIS, 6, 30000, 11);
+    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 6, 30000, 12);
+    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 6, 60000, 13);
+    assert_agree(mis, nee, 4.5);
+    assert_agree(mis, bsdf, 4.5);
+    assert_agree(nee, bsdf, 4.5);
+    assert_true(mis.se < 0.02 * mis.mean);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+/* Under a perforated sheet, light sampling sees the sheet as a transparent
+ * shadow (attenuated by its transmission) while BSDF sampling passes it
+ * stochastically; both estimate the same image. */
+static void transparent_shadows_agree_with_stochastic_passing(void **state)
+{
+    (void)state;
+    plm_scene s;
+    lit_room(&s, 0.6);
+    look(&s, v3(0, 1.0, 3.0), v3(0, 0.3, 0), v3(0, 1, 0), 50, 32, 24, 8);
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    assert_true(w.transmissive);
+    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 6, 30000, 21);
+    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 6, 60000, 22);
+    estimate mis = film_mean(&w, PLM_ESTIMATOR_MIS, 6, 30000, 23);
+    assert_agree(nee, bsdf, 4.5);
+    assert_agree(mis, bsdf, 4.5);
+    /* Direct attenuation is exactly the transmission for one sheet. */
+    double o = 0.0;
+    assert_true(plm_world_intersect(&w, v3(0, 3, 0), v3(0, -1, 0), INFINITY, &o, &(plm_hit){0}));
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 1.0, 0.1), v3(0, 1, 0), INFINITY), 0.6, 1e-12);
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.3, 0.1, 0.0), v3(0, 1, 0), INFINITY), 0.0, 0.0);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+/* White furnace: a white, partly transmissive, strongly curled surface in a
+ * uniform environment of radiance 1 has radiance 1 everywhere, at every
+ * number of interreflections (roulette and MIS must stay unbiased). */
+static void white_furnace(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    /* 90% of a cylinder of radius 1 about (0, y, -1), its slit facing -z; the camera looks in through the slit. */
+    int mesh = add_quad_mesh(&s, "cup", 2.0 * PLM_PI * 0.9, 6.0, 1.0);
+    add_object(&s, mesh, add_diffuse(&s, "white", rgb_gray(1.0), 0.2), plm_xform_identity());
+    add_light(&s, constant_env(1.0));
+    look(&s, v3(0.0, 0.3, -4.0), v3(0, 0, -1), v3(0, 1, 0), 12, 32, 32, 8);
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate e = film_mean(&w, PLM_ESTIMATOR_MIS, 256, 30000, 5);
+    assert_agree(e, (estimate){1.0, 0.0}, 4.0);
+    assert_true(fabs(e.mean - 1.0) < 0.01);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+
+static void render_threads(const plm_scene *s, int threads, uint64_t seed, plm_film *film)
+{
+    plm_render_options opt = {0};
+    opt.threads = threads;
+    opt.seed = (long long)seed;
+    plm_error err;
+    assert_int_equal(plm_render(s, &opt, film, &err), PLM_OK);
+    assert_int_equal(film->nonfinite, 0);
+}
+
+static void bit_identical_at_any_thread_count(void **state)
+{
+    (void)state;
+    plm_scene s;
+    lit_room(&s, 0.5);
+    look(&s, v3(0, 1.0, 3.0), v3(0, 0.3, 0), v3(0, 1, 0), 50, 37, 29, 5); /* odd sizes: partial tiles */
+    plm_film a, b, c, d;
+    render_threads(&s, 1, 7, &a);
+    render_threads(&s, 2, 7, &b);
+    render_threads(&s, 3, 7, &c);
+    render_threads(&s, 2, 8, &d);
+    size_t bytes = sizeof(float) * 3 * 37 * 29;
+    assert_memory_equal(a.rgb, b.rgb, bytes);
+    assert_memory_equal(a.rgb, c.rgb, bytes);
+    assert_memory_not_equal(a.rgb, d.rgb, bytes);
+    for (int i = 0; i < 37 * 29; ++i)
+        assert_int_equal(a.samples[i], 5);
+    plm_film_free(&a), plm_film_free(&b), plm_film_free(&c), plm_film_free(&d);
+    plm_scene_free(&s);
+}
+
+/* A cancelled render stops early, normalises by the samples it took and never leaves NaN. */
+static void cancelled_render_keeps_what_it_took(void **state)
+{
+    (void)state;
+    plm_scene s;
+    lit_room(&s, 0.0);
+    volatile sig_atomic_t cancel = 1;
+    plm_render_options opt = {0};
+    opt.cancel = &cancel;
+    opt.spp = 64;
+    plm_film f;
+    plm_error err;
+    assert_int_equal(plm_render(&s, &opt, &f, &err), PLM_OK);
+    assert_true(f.interrupted);
+    for (int i = 0; i < f.width * f.height * 3; ++i)
+        assert_true(isfinite(f.rgb[i]) && f.rgb[i] >= 0.0f);
+    plm_film_free(&f);
+    plm_scene_free(&s);
+}
+
+/* Background texels are not there: rays pass through them (intersection
+ * filter) and so do shadow rays (occlusion filter), through two instances. */
+static void mask_filters_remove_background(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    int mesh = add_quad_mesh(&s, "vane", 1, 1, 0);
+    plm_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "masked");
+    m.reflectance = rgb_gray(0.5);
+    float *px = malloc(sizeof(float) * 8 * 8 * 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            px[3 * (y * 8 + x)] = 1.0f, px[3 * (y * 8 + x) + 1] = 0.5f;
+            px[3 * (y * 8 + x) + 2] = x < 4 ? 0.0f : (y < 2 ? 0.5f : 1.0f); /* left half background */
+        }
+    plm_error err;
+    assert_int_equal(plm_feather_texture_from_pixels(8, 8, px, &m.texture, &err), PLM_OK);
+    int mat = plm_scene_add_material(&s, &m);
+    add_object(&s, mesh, mat, plm_xform_identity());
+    add_object(&s, mesh, mat, plm_xform_translate(v3(0, 0, -2)));
+    plm_world w;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    assert_int_equal(w.prototype_count, 1);
+    double t;
+    plm_hit hit;
+    assert_false(plm_world_intersect(&w, v3(-0.25, 0, 1), v3(0, 0, -1), INFINITY, &t, &hit));
+    assert_false(plm_world_occluded(&w, v3(-0.25, 0, 1), v3(0, 0, -1), 10.0));
+    assert_true(plm_world_intersect(&w, v3(0.25, 0, 1), v3(0, 0, -1), INFINITY, &t, &hit));
+    assert_float_equal(t, 1.0, 1e-5);
+    assert_float_equal(hit.uv.x, 0.75, 1e-5);
+    assert_float_equal(hit.uv.y, 0.5, 1e-5);
+    assert_true(plm_world_occluded(&w, v3(0.25, 0, 1), v3(0, 0, -1), 10.0));
+    /* Behind the first instance, the second one is hit on its vane half. */
+    assert_true(plm_world_intersect(&w, v3(0.25, 0, -1), v3(0, 0, -1), INFINITY, &t, &hit));
+    assert_float_equal(hit.p.z, -2.0, 1e-5);
+    assert_float_equal(hit.dpdu.x, 1.0, 1e-6);
+    assert_float_equal(hit.dpdv.y, 1.0, 1e-6);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+/* Light sampling densities: E[1/pdf] over light samples is the solid angle
+ * the light covers (closed form for a square seen on its axis), and
+ * plm_light_pdf agrees with the density the sample reported. */
+static void light_sampling_densities(void **state)
+{
+    (void)state;
+    plm_light q;
+    memset(&q, 0, sizeof q);
+    q.type = PLM_LIGHT_QUAD;
+    q.corner = v3(-1, -1, 2);
+    q.edge_u = v3(0, 2, 0);
+    q.edge_v = v3(2, 0, 0); /* faces -z, toward the origin */
+    q.radiance = rgb_gray(1.0);
+    plm_render_light rl;
+    plm_error err;
+    assert_int_equal(plm_render_light_init(&q, &rl, &err), PLM_OK);
+    plm_rng rng;
+    plm_rng_seed(&rng, 3, 3);
+    double sum = 0.0;
+    int n = 200000;
+    for (int i = 0; i < n; ++i) {
+        plm_light_sample ls;
+        assert_true(plm_light_sample_from(&rl, v3(0, 0, 0), plm_rng_uniform(&rng), plm_rng_uniform(&rng), &ls));
+        sum += 1.0 / ls.pdf;
+        assert_float_equal(plm_light_pdf(&rl, v3(0, 0, 0), ls.wi), ls.pdf, 1e-9 * ls.pdf);
+    }
+    double a = 2.0, b = 2.0, d = 2.0, omega = 4.0 * atan(a * b / (2.0 * d * sqrt(4.0 * d * d + a * a + b * b)));
+    assert_true(fabs(sum / n / omega - 1.0) < 0.005);
+    plm_render_light_free(&rl);
+
+    /* Environment map: importance-sampled integral of its luminance equals the
+     * texel sum weighted by solid angle; the density integrates to 1. */
+    plm_light env = test_env_map();
+    assert_int_equal(plm_render_light_init(&env, &rl, &err), PLM_OK);
+    double exact = 0.0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float *p = env.image.pixels + 3 * (y * 32 + x);
+            double band = cos(PLM_PI * y / 16.0) - cos(PLM_PI * (y + 1) / 16.0);
+            exact += rgb_luminance(rgb_make(p[0], p[1], p[2])) * PLM_TWO_PI / 32.0 * band;
+        }
+    double is = 0.0, density = 0.0;
+    for (int i = 0; i < n; ++i) {
+        plm_light_sample ls;
+        assert_true(plm_light_sample_from(&rl, v3(0, 0, 0), plm_rng_uniform(&rng), plm_rng_uniform(&rng), &ls));
+        is += rgb_luminance(ls.radiance) / ls.pdf;
+        assert_float_equal(plm_light_pdf(&rl, v3(0, 0, 0), ls.wi), ls.pdf, 1e-6 * ls.pdf);
+        vec3 u = plm_sample_uniform_sphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
+        density += plm_light_pdf(&rl, v3(0, 0, 0), u) * 4.0 * PLM_PI;
+    }
+    assert_true(fabs(is / n / exact - 1.0) < 0.002);
+    assert_true(fabs(density / n - 1.0) < 0.03);
+    plm_render_light_free(&rl);
+    free(env.image.pixels);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(diffuse_plane_under_constant_sky),
+        cmocka_unit_test(diffuse_plane_under_distant_light),
+        cmocka_unit_test(estimators_agree),
+        cmocka_unit_test(transparent_shadows_agree_with_stochastic_passing),
+        cmocka_unit_test(white_furnace),
+        cmocka_unit_test(bit_identical_at_any_thread_count),
+        cmocka_unit_test(cancelled_render_keeps_what_it_took),
+        cmocka_unit_test(mask_filters_remove_background),
+        cmocka_unit_test(light_sampling_densities),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,198 @@
+/* Scene files: fields and defaults, includes with relative paths, instances
+ * and transforms, and errors that name the file, the field path and the
+ * allowed values. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "common/fileio.h"
+#include "common/image_io.h"
+#include "render/scene.h"
+
+static char dir[256];
+
+static void write_file(const char *name, const char *text)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    snprintf(dir, sizeof dir, "/tmp/plumage_test_scene_XXXXXX");
+    if (!mkdtemp(dir))
+        return -1;
+    char sub[512];
+    snprintf(sub, sizeof sub, "%s/feather", dir);
+    plm_error err;
+    if (plm_make_dirs(sub, &err) != PLM_OK)
+        return -1;
+    /* A 4x2 feather texture: left column background, the rest vane. */
+    float px[4 * 2 * 3];
+    for (int i = 0; i < 8; ++i)
+        px[3 * i] = 1.0f, px[3 * i + 1] = 0.5f, px[3 * i + 2] = i % 4 == 0 ? 0.0f : 1.0f;
+    char tex[600];
+    snprintf(tex, sizeof tex, "%s/texture.exr", sub);
+    return plm_image_write(tex, 4, 2, 3, PLM_PIXEL_FLOAT, px, &err) == PLM_OK ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static plm_result load(const char *name, plm_scene *s, plm_error *err)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return plm_scene_load(path, s, err);
+}
+
+static void defaults_when_fields_are_absent(void **state)
+{
+    (void)state;
+    write_file("empty.json", "{}");
+    plm_scene s;
+    plm_error err;
+    assert_int_equal(load("empty.json", &s, &err), PLM_OK);
+    assert_int_equal(s.film.width, 512);
+    assert_int_equal(s.film.height, 512);
+    assert_int_equal(s.film.spp, 64);
+    assert_int_equal(s.film.max_depth, 16);
+    assert_int_equal((int)s.film.seed, 1);
+    assert_false(s.camera.given);
+    assert_float_equal(s.camera.fov, 40.0, 0);
+    assert_string_equal(s.film.png, "");
+    assert_int_equal(s.instance_count, 0);
+    plm_scene_free(&s);
+}
+
+/* The generator's feather.json works alone and through an include; paths
+ * resolve against the file that names them. */
+static void includes_resolve_relative_paths(void **state)
+{
+    (void)state;
+    write_file("feather/feather.json",
+               "{\"meshes\": {\"vane\": {\"shape\": \"quad\", \"size\": [0.2, 1]}},\n"
+               " \"materials\": {\"vane\": {\"type\": \"diffuse\", \"mask\": \"texture.exr\"}},\n"
+               " \"objects\": [{\"mesh\": \"vane\", \"material\": \"vane\"}]}");
+    write_file("top.json",
+               "{\"include\": \"feather/feather.json\",\n"
+               " \"camera\": {\"position\": [0, 0, 3], \"fov\": 30},\n"
+               " \"film\": {\"width\": 64, \"height\": 32, \"spp\": 4, \"png\": \"out.png\"},\n"
+               " \"lights\": [{\"type\": \"environment\", \"radiance\": [1, 2, 3]},\n"
+               "            {\"type\": \"distant\", \"direction\": [0, 2, 0], \"irradiance\": [3, 3, 3]}],\n"
+               " \"objects\": [{\"mesh\": \"vane\", \"material\": \"vane\", \"tint\": [0.5, 0.5, 0.5],\n"
+               "   \"tint_jitter\": 0.4, \"seed\": 3,\n"
+               "   \"transform\": {\"translate\": [0, 0, 1]},\n"
+               "   \"instances\": [{\"transform\": {\"scale\": 2, \"rotate\": [0, 0, 90]}}, {}, {}]}]}");
+    plm_scene s;
+    plm_error err;
+    assert_int_equal(load("feather/feather.json", &s, &err), PLM_OK);
+    assert_int_equal(s.instance_count, 1);
+    assert_int_equal(s.materials[0].texture.width, 4);
+    plm_scene_free(&s);
+
+    if (load("top.json", &s, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(s.mesh_count, 1);
+    assert_int_equal(s.instance_count, 4);
+    assert_int_equal(s.light_count, 2);
+    assert_int_equal(s.lights[0].type, PLM_LIGHT_CONSTANT_ENV);
+    assert_float_equal(s.lights[1].direction.y, 1.0, 1e-12);
+    assert_true(s.camera.given);
+    assert_float_equal(s.camera.fov, 30.0, 0);
+    assert_int_equal(s.film.width, 64);
+    assert_string_equal(s.film.png, "out.png");
+    assert_int_equal(s.materials[0].texture.region[0], PLM_REGION_BACKGROUND);
+    assert_int_equal(s.materials[0].texture.region[1], PLM_REGION_VANE);
+    /* Instance 1: scale 2, rotate 90 about z, then the object's translate: (1,0,0) -> (0,2,1). */
+    vec3 p = plm_xform_point(s.instances[1].xform.m, v3(1, 0, 0));
+    assert_float_equal(p.x, 0.0, 1e-12);
+    assert_float_equal(p.y, 2.0, 1e-12);
+    assert_float_equal(p.z, 1.0, 1e-12);
+    vec3 q = plm_xform_point(s.instances[1].xform.inv, p);
+    assert_float_equal(q.x, 1.0, 1e-12);
+    /* Tints vary per instance but never brighten and never leave [tint (1 - jitter), tint]. */
+    for (int i = 1; i < 4; ++i) {
+        rgb t = s.instances[i].tint;
+        assert_true(t.r <= 0.5 && t.r >= 0.3 && t.g <= 0.5 && t.g >= 0.3 && t.b <= 0.5 && t.b >= 0.3);
+    }
+    assert_true(s.instances[1].tint.r != s.instances[2].tint.r);
+    plm_scene_free(&s);
+}
+
+/* Each bad file must fail with a message holding every listed fragment. */
+static void expect_error(const char *text, const char *const *fragments)
+{
+    write_file("bad.json", text);
+    plm_scene s;
+    plm_error err = {{0}};
+    assert_int_not_equal(load("bad.json", &s, &err), PLM_OK);
+    for (const char *const *f = fragments; *f; ++f)
+        if (!strstr(err.message, *f))
+            fail_msg("message \"%s\" lacks \"%s\"", err.message, *f);
+}
+
+static void errors_name_file_field_and_allowed_values(void **state)
+{
+    (void)state;
+    expect_error("{\"camera\": {\"fov\": 200}}", (const char *const[]){"bad.json", "camera.fov", "[0.01, 179]", NULL});
+    expect_error("{\"camera\": {\"fob\": 20}}",
+                 (const char *const[]){"bad.json", "camera.fob", "unknown field", "position", NULL});
+    expect_error("{\"film\": {\"spp\": \"many\"}}", (const char *const[]){"film.spp", "number", NULL});
+    expect_error("{\"film\": {\"width\": 0}}", (const char *const[]){"film.width", "[1, 16384]", NULL});
+    expect_error("{\"film\": {\"spp\": 1.5}}", (const char *const[]){"film.spp", "whole number", NULL});
+    expect_error("{\"lights\": [{\"type\": \"laser\"}]}",
+                 (const char *const[]){"lights[0].type", "\"environment\"", "\"quad\"", NULL});
+    expect_error("{\"lights\": [{\"radiance\": [1, 1, 1]}]}", (const char *const[]){"lights[0].type", "required", NULL});
+    expect_error("{\"lights\": [{\"type\": \"sphere\", \"radius\": -1}]}", (const char *const[]){"lights[0].radius", NULL});
+    expect_error("{\"lights\": [{\"type\": \"environment\", \"file\": \"nowhere.exr\"}]}",
+                 (const char *const[]){"bad.json", "lights[0].file", "nowhere.exr", NULL});
+    expect_error("{\"meshes\": {\"m\": {\"file\": \"missing.ply\"}}}",
+                 (const char *const[]){"meshes.m.file", "missing.ply", NULL});
+    expect_error("{\"meshes\": {\"m\": {\"shape\": \"torus\"}}}", (const char *const[]){"meshes.m.shape", "\"sphere\"", NULL});
+    expect_error("{\"meshes\": {\"m\": {\"shape\": \"quad\", \"size\": [1]}}}", (const char *const[]){"meshes.m.size", NULL});
+    expect_error("{\"materials\": {\"a\": {\"reflectance\": [2, 0, 0]}}}",
+                 (const char *const[]){"materials.a.reflectance", "[0, 1]", NULL});
+    expect_error("{\"materials\": {\"a\": {\"mask\": \"none.exr\"}}}", (const char *const[]){"materials.a.mask", "none.exr", NULL});
+    expect_error("{\"objects\": [{\"mesh\": \"nothing\", \"material\": \"x\"}]}",
+                 (const char *const[]){"objects[0].mesh", "\"nothing\" is not defined", NULL});
+    expect_error("{\"meshes\": {\"q\": {\"shape\": \"quad\"}}, \"materials\": {\"d\": {}},"
+                 " \"objects\": [{\"mesh\": \"q\", \"material\": \"d\", \"instances\": [{\"transform\": {\"scale\": 0}}]}]}",
+                 (const char *const[]){"objects[0].instances[0].scale", "non-zero", NULL});
+    expect_error("{\"include\": \"feather/feather.json\", \"meshes\": {\"vane\": {\"shape\": \"quad\"}}}",
+                 (const char *const[]){"meshes.vane", "already defined", NULL});
+    expect_error("{\"include\": \"nonexistent.json\"}", (const char *const[]){"nonexistent.json", NULL});
+    expect_error("{\"film\": {\"width\": 10,}", (const char *const[]){"bad.json:1:", "malformed JSON", NULL});
+    expect_error("{\"cameras\": {}}", (const char *const[]){"cameras", "unknown field", "include", NULL});
+    expect_error("{\"camera\": {\"position\": [0, 0, 0], \"look_at\": [0, 0, 0]}}",
+                 (const char *const[]){"camera.look_at", "must differ", NULL});
+    write_file("cycle.json", "{\"include\": \"cycle.json\"}");
+    expect_error("{\"include\": \"cycle.json\"}", (const char *const[]){"cycle", "nested", NULL});
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(defaults_when_fields_are_absent),
+        cmocka_unit_test(includes_resolve_relative_paths),
+        cmocka_unit_test(errors_name_file_field_and_allowed_values),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
