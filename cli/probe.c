@@ -11,6 +11,7 @@ typedef struct probe {
 } probe;
 
 static const probe probes[] = {
+    {"masking", probe_masking, "barb/barbule masking weights and h-intervals (analytic or Monte Carlo), Fig. 9 pictures"},
     {NULL, NULL, NULL}, /* sentinel: probes are added here as the models land */
 };
 

@@ -1,0 +1,283 @@
+/* plumage probe masking: the analytic barb/barbule masking (DESIGN 4), its
+ * two levels on their own, the explicit-geometry Monte Carlo reference, and
+ * Fig. 9-style pictures comparing the two. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "common/image_io.h"
+#include "render/masking.h"
+#include "render/masking_reference.h"
+
+static const char *const level_names[] = {"full", "barbule", "barb", NULL};
+enum { LEVEL_FULL, LEVEL_BARBULE, LEVEL_BARB };
+static const char *const reference_names[] = {"none", "monte-carlo", NULL};
+
+enum {
+    OPT_BARB_E, OPT_BARBULE_E, OPT_LENGTH, OPT_SEPARATION, OPT_ROTATION, OPT_INCLINATION,
+    OPT_T_PROXIMAL, OPT_T_DISTAL, OPT_LEVEL, OPT_REFERENCE, OPT_SAMPLES, OPT_SEED,
+    OPT_FIGURE, OPT_FIGURE9, OPT_WIDTH, OPT_COUNT
+};
+
+typedef struct probe_args {
+    double barb_e, barbule_e, length, separation, rotation_deg, inclination_deg;
+    double t_proximal, t_distal;
+    int level, reference, samples, seed, width;
+    const char *figure, *figure9;
+} probe_args;
+
+/* Which options each mode accepts (DESIGN 4 lists them per level). */
+static int option_allowed(int opt, const probe_args *a)
+{
+    int picture = a->figure || a->figure9;
+    switch (opt) {
+    case OPT_BARB_E: return a->level != LEVEL_BARBULE && !a->figure9;
+    case OPT_BARBULE_E: case OPT_SEPARATION: return a->level != LEVEL_BARB && !a->figure9;
+    case OPT_LENGTH: case OPT_INCLINATION: return a->level != LEVEL_BARBULE && !a->figure9;
+    case OPT_ROTATION: return a->level == LEVEL_FULL && !a->figure9;
+    case OPT_T_PROXIMAL: case OPT_T_DISTAL: return a->level == LEVEL_BARB;
+    case OPT_REFERENCE: return a->level == LEVEL_FULL && !picture;
+    case OPT_SAMPLES: case OPT_SEED: return a->reference || picture;
+    case OPT_WIDTH: return picture;
+    case OPT_FIGURE: case OPT_FIGURE9: return a->level == LEVEL_FULL && !(a->figure && a->figure9);
+    default: return 1;
+    }
+}
+
+static void print_range_list(const plm_h_range *r, int n)
+{
+    for (int i = 0; i < n; ++i)
+        printf("%s%.9g:%.9g:%.9g", i ? "|" : "", r[i].hmin, r[i].hmax, r[i].rate);
+}
+
+static void print_full(const double in[3], const plm_masking *m)
+{
+    printf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", in[0], in[1], in[2], m->w_barb, m->w_proximal,
+           m->w_distal, m->w_transmission, m->proximal.hmin, m->proximal.hmax, m->distal.hmin, m->distal.hmax);
+    print_range_list(m->barb, m->barb_range_count);
+    printf("\n");
+}
+
+/* A view direction given on stdin must have a direction. */
+static int nonzero(const double *v, int n, const char *cmd, long line)
+{
+    for (int i = 0; i < n; ++i)
+        if (v[i] != 0.0)
+            return 1;
+    fprintf(stderr, "error: %s: stdin line %ld: the direction is the zero vector\n", cmd, line);
+    return 0;
+}
+
+static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_masking_reference *ref)
+{
+    const char *cmd = "plumage probe masking";
+    int n = a->level == LEVEL_FULL ? 3 : 2;
+    if (a->level == LEVEL_FULL)
+        printf("x,y,z,w_barb,w_proximal,w_distal,w_transmission,proximal_hmin,proximal_hmax,distal_hmin,distal_hmax,"
+               "barb_ranges\n");
+    else if (a->level == LEVEL_BARBULE)
+        printf("dx,dy,transmittance,hmin,hmax\n");
+    else
+        printf("dx,dy,w_barb,w_proximal,w_distal,w_transmission,barb_ranges\n");
+    long line = 0;
+    double v[3];
+    int got;
+    while ((got = plm_read_numbers(stdin, cmd, &line, v, n)) == 1) {
+        if (!nonzero(v, n, cmd, line))
+            return 1;
+        if (a->level == LEVEL_BARBULE) {
+            plm_barbule_masking m;
+            plm_masking_barbule(p->barbule_eccentricity, p->barbule_separation, v2(v[0], v[1]), &m);
+            printf("%.9g,%.9g,%.9g,%.9g,%.9g\n", v[0], v[1], m.transmittance, m.hmin, m.hmax);
+        } else if (a->level == LEVEL_BARB) {
+            plm_barb_masking m;
+            plm_masking_barb(p->barb_eccentricity, p->barbule_length, p->barbule_inclination, a->t_proximal,
+                             a->t_distal, v2(v[0], v[1]), &m);
+            printf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", v[0], v[1], m.w_barb, m.w_proximal, m.w_distal, m.w_transmission);
+            print_range_list(m.barb, m.barb_range_count);
+            printf("\n");
+        } else {
+            plm_masking m;
+            if (ref) {
+                plm_error err;
+                if (plm_masking_reference_eval(ref, v3(v[0], v[1], v[2]), (unsigned)a->samples, (uint64_t)a->seed, &m,
+                                               &err) != PLM_OK) {
+                    fprintf(stderr, "error: %s: stdin line %ld: %s\n", cmd, line, err.message);
+                    return 1;
+                }
+            } else {
+                plm_masking_eval(p, v3(v[0], v[1], v[2]), &m);
+            }
+            print_full(v, &m);
+        }
+    }
+    return got < 0 ? 1 : 0;
+}
+
+/* ---------------------------------------------------------------- pictures */
+
+/* Fig. 9 of the paper: the weights of barb, proximal and distal barbules as
+ * blue, green and red over the view's azimuth (horizontal, 0 to 360 degrees
+ * from b toward t) and polar angle from n (vertical, 0 at the top to 180 at
+ * the bottom: the lower half shows views from below the vane). Each parameter
+ * set is one row: the analytic masking left, the brute force right. */
+static int write_figure(const char *path, const plm_masking_params *sets, int n_sets, int width, int samples,
+                        uint64_t seed)
+{
+    int height = width / 2, gap = 4;
+    int img_w = 2 * width + gap, img_h = n_sets * height + (n_sets - 1) * gap;
+    float *rgb = calloc((size_t)img_w * (size_t)img_h * 3, sizeof(float));
+    if (!rgb) {
+        fprintf(stderr, "error: out of memory for the figure\n");
+        return 1;
+    }
+    for (size_t i = 0; i < (size_t)img_w * (size_t)img_h * 3; ++i)
+        rgb[i] = 1.0f; /* white separators */
+    int status = 0;
+    for (int k = 0; k < n_sets && status == 0; ++k) {
+        plm_error err;
+        plm_masking_reference *ref = NULL;
+        if (plm_masking_reference_create(&sets[k], NULL, &ref, &err) != PLM_OK) {
+            fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+            status = 1;
+            break;
+        }
+        for (int row = 0; row < height; ++row) {
+            double polar = PLM_PI * (row + 0.5) / height;
+            for (int col = 0; col < width; ++col) {
+                double azimuth = PLM_TWO_PI * (col + 0.5) / width;
+                vec3 wo = v3(sin(polar) * cos(azimuth), cos(polar), sin(polar) * sin(azimuth));
+                plm_masking m[2];
+                plm_masking_eval(&sets[k], wo, &m[0]);
+                if (plm_masking_reference_eval(ref, wo, (unsigned)samples, seed + (uint64_t)(row * width + col), &m[1],
+                                               &err) != PLM_OK) {
+                    fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+                    status = 1;
+                    break;
+                }
+                for (int side = 0; side < 2; ++side) {
+                    size_t x = (size_t)(side * (width + gap) + col), y = (size_t)(k * (height + gap) + row);
+                    float *px = rgb + 3 * (y * (size_t)img_w + x);
+                    px[0] = (float)m[side].w_distal;
+                    px[1] = (float)m[side].w_proximal;
+                    px[2] = (float)m[side].w_barb;
+                }
+            }
+            fprintf(stderr, "\rfigure: set %d/%d, row %d/%d", k + 1, n_sets, row + 1, height);
+            if (status)
+                break;
+        }
+        fprintf(stderr, "\n");
+        plm_masking_reference_destroy(ref);
+    }
+    if (status == 0) {
+        plm_error err;
+        if (plm_image_write_srgb_png(path, img_w, img_h, rgb, 0.0, &err) != PLM_OK) {
+            fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+            status = 1;
+        }
+    }
+    free(rgb);
+    return status;
+}
+
+/* The two parameter sets of the paper's Fig. 9 (REFERENCES.md). */
+static int write_figure9(const char *path, int width, int samples, uint64_t seed)
+{
+    plm_masking_params sets[2];
+    for (int k = 0; k < 2; ++k) {
+        plm_masking_params_default(&sets[k]);
+        sets[k].barbule_eccentricity = 1.0;
+        sets[k].barbule_separation = 1.0;
+    }
+    sets[0].barb_eccentricity = 3.0;
+    sets[0].barbule_length = 1.0;
+    sets[0].barbule_inclination = 0.0;
+    sets[1].barb_eccentricity = 1.0;
+    sets[1].barbule_length = 3.0;
+    sets[1].barbule_inclination = plm_radians(45.0);
+    return write_figure(path, sets, 2, width, samples, seed);
+}
+
+int probe_masking(int argc, char **argv)
+{
+    probe_args a = {1.0, 1.0, 1.0, 1.0, 45.0, 0.0, 0.0, 0.0, LEVEL_FULL, 0, 4096, 1, 180, NULL, NULL};
+    plm_option opts[OPT_COUNT] = {
+        [OPT_BARB_E] = {"--barb-eccentricity", PLM_OPT_DOUBLE, &a.barb_e, 0, 1e-6, 20, NULL, "E",
+                        "barb extent along n / along b (default 1)", 0},
+        [OPT_BARBULE_E] = {"--barbule-eccentricity", PLM_OPT_DOUBLE, &a.barbule_e, 0, 1e-6, 20, NULL, "E",
+                           "barbule extent along r2 / along r1 (default 1)", 0},
+        [OPT_LENGTH] = {"--barbule-length", PLM_OPT_DOUBLE, &a.length, 0, 1e-6, 100, NULL, "L",
+                        "barbule length in barb half-widths (default 1)", 0},
+        [OPT_SEPARATION] = {"--barbule-separation", PLM_OPT_DOUBLE, &a.separation, 0, 0, 100, NULL, "S",
+                            "gap between barbules / barbule width (default 1)", 0},
+        [OPT_ROTATION] = {"--barbule-rotation", PLM_OPT_DOUBLE, &a.rotation_deg, 0, 0, 90, NULL, "DEG",
+                          "barbule azimuth from the barb axis, degrees (default 45)", 0},
+        [OPT_INCLINATION] = {"--barbule-inclination", PLM_OPT_DOUBLE, &a.inclination_deg, 0, 0, 89, NULL, "DEG",
+                             "barbule rise toward n, degrees (default 0)", 0},
+        [OPT_T_PROXIMAL] = {"--proximal-transmittance", PLM_OPT_DOUBLE, &a.t_proximal, 0, 0, 1, NULL, "T",
+                            "--level barb: proximal barbule-level transmittance (default 0)", 0},
+        [OPT_T_DISTAL] = {"--distal-transmittance", PLM_OPT_DOUBLE, &a.t_distal, 0, 0, 1, NULL, "T",
+                          "--level barb: distal barbule-level transmittance (default 0)", 0},
+        [OPT_LEVEL] = {"--level", PLM_OPT_CHOICE, &a.level, 0, 0, 0, level_names, "LEVEL",
+                       "full (default), barbule (stdin: dx dy) or barb (stdin: dx dy)", 0},
+        [OPT_REFERENCE] = {"--reference", PLM_OPT_CHOICE, &a.reference, 0, 0, 0, reference_names, "KIND",
+                           "monte-carlo: rays against explicit 3D barbs and barbules instead", 0},
+        [OPT_SAMPLES] = {"--samples", PLM_OPT_INT, &a.samples, 0, 16, 1 << 26, NULL, "N",
+                         "rays per direction for the Monte Carlo reference (default 4096)", 0},
+        [OPT_SEED] = {"--seed", PLM_OPT_INT, &a.seed, 0, 0, 2147483647, NULL, "N",
+                      "random seed of the Monte Carlo reference (default 1)", 0},
+        [OPT_FIGURE] = {"--figure", PLM_OPT_STRING, &a.figure, 0, 0, 0, NULL, "FILE.png",
+                        "write a Fig. 9-style picture of these parameters (no stdin)", 0},
+        [OPT_FIGURE9] = {"--figure9", PLM_OPT_STRING, &a.figure9, 0, 0, 0, NULL, "FILE.png",
+                         "write the paper's Fig. 9: both of its parameter sets (no stdin)", 0},
+        [OPT_WIDTH] = {"--width", PLM_OPT_INT, &a.width, 0, 8, 4096, NULL, "PIXELS",
+                       "width of each picture panel; height is half (default 180)", 0},
+    };
+    plm_command_help help = {
+        "plumage probe masking [options] < directions",
+        "Barb and barbule masking (paper Sec. 6.1) for view directions read from stdin, one per line.\n"
+        "full (default): stdin 'x y z' in the barb frame (b, n, t), need not be normalised; stdout\n"
+        "  x,y,z,w_barb,w_proximal,w_distal,w_transmission,proximal_hmin,proximal_hmax,distal_hmin,distal_hmax,\n"
+        "  barb_ranges (hmin:hmax:rate|...). With --reference monte-carlo the weights are counted from rays\n"
+        "  cast at explicit 3D geometry, the h-intervals are the extremes of the hits seen, and barb_ranges is\n"
+        "  one range holding w_barb.\n"
+        "--level barbule: stdin 'dx dy' in a barbule row's cross-section; stdout dx,dy,transmittance,hmin,hmax.\n"
+        "--level barb: stdin 'dx dy' in the barb cross-section; stdout dx,dy,w_barb,w_proximal,w_distal,\n"
+        "  w_transmission,barb_ranges.\n"
+        "--figure / --figure9 write a PNG instead (barb, proximal, distal weights as blue, green, red over\n"
+        "  view azimuth and polar angle; analytic left, Monte Carlo right)."};
+    int rc = plm_parse_options(&help, argc, argv, 1, opts, OPT_COUNT, NULL, 0, NULL);
+    if (rc)
+        return rc == 1 ? 0 : 2;
+    for (int i = 0; i < OPT_COUNT; ++i)
+        if (opts[i].seen && !option_allowed(i, &a)) {
+            fprintf(stderr, "error: plumage probe masking: %s does not apply here (--level %s%s%s)\n", opts[i].name,
+                    level_names[a.level], a.reference ? ", --reference" : "",
+                    a.figure || a.figure9 ? ", picture" : "");
+            return 2;
+        }
+
+    plm_masking_params p = {a.barb_e, a.barbule_e, a.length, a.separation, plm_radians(a.rotation_deg),
+                            plm_radians(a.inclination_deg)};
+    plm_error err;
+    if (plm_masking_params_validate(&p, &err) != PLM_OK) {
+        fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+        return 2;
+    }
+    if (a.figure9)
+        return write_figure9(a.figure9, a.width, a.samples, (uint64_t)a.seed);
+    if (a.figure)
+        return write_figure(a.figure, &p, 1, a.width, a.samples, (uint64_t)a.seed);
+    plm_masking_reference *ref = NULL;
+    if (a.reference && plm_masking_reference_create(&p, NULL, &ref, &err) != PLM_OK) {
+        fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+        return 2;
+    }
+    int status = run_stdin(&a, &p, ref);
+    plm_masking_reference_destroy(ref);
+    return status;
+}

@@ -1,0 +1,94 @@
+/* Analytic masking of barbs and barbules (paper Sec. 6.1, Figs. 5 and 6).
+ *
+ * For a view direction, the masking says which fraction of the vane's
+ * projected width belongs to the barb, the proximal barbules, the distal
+ * barbules and the gaps (w_barb + w_proximal + w_distal + w_transmission = 1),
+ * and which part of each fiber's width (its h-interval, DESIGN 3.2) is seen.
+ *
+ * It works at two scales, each a 2D cross-section:
+ * - barbule level: a row of barbule ellipses (period 1, semi-axes
+ *   a = 1 / (2 (1 + delta_bb)) along r1 and e_bb * a along r2); either
+ *   neighbours overlap in projection (no transmittance, part of the width
+ *   hidden) or the gap shows (transmittance = projected gap / period);
+ * - barb level: barbs are ellipses with period 1 along b, barbules are
+ *   segments of length l_bb barb half-widths leaving each barb's side at the
+ *   height of its centre and rising at theta_bb to a ridge shared with the
+ *   neighbour; a barbule segment lets a ray through with its set's barbule-level
+ *   transmittance (independent layers multiply).
+ * Directions are in the barb frame of DESIGN 3.1: (x, y, z) = (w.b, w.n, w.t). */
+#ifndef PLUMAGE_RENDER_MASKING_H
+#define PLUMAGE_RENDER_MASKING_H
+
+#include "common/error.h"
+#include "common/vec.h"
+
+/* DESIGN 3.2; angles in radians here. */
+typedef struct plm_masking_params {
+    double barb_eccentricity;    /* e_b: barb extent along n / extent along b, (0, 20] */
+    double barbule_eccentricity; /* e_bb: the same in a barbule's row frame, (0, 20] */
+    double barbule_length;       /* l_bb: in barb half-widths, (0, 100] */
+    double barbule_separation;   /* delta_bb: gap / barbule width, [0, 100] */
+    double barbule_rotation;     /* phi_bb: azimuth away from the barb axis, [0, pi/2] */
+    double barbule_inclination;  /* theta_bb: rise toward n, [0, 89 degrees] */
+} plm_masking_params;
+
+/* DESIGN 4 defaults: e_b 1, e_bb 1, l_bb 1, delta_bb 1, phi_bb 45 deg, theta_bb 0. */
+void plm_masking_params_default(plm_masking_params *p);
+/* PLM_ERR_INVALID with a message naming the field and its range (in degrees
+ * for the angles) if any field is out of range or not finite. */
+plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err);
+
+/* A visible interval of a fiber's h (DESIGN 3.2) and the fraction of the
+ * vane's projected width that sees the fiber through it. */
+typedef struct plm_h_range {
+    double hmin, hmax, rate;
+} plm_h_range;
+
+/* Each barb range comes from one class of view rays with the same barbule
+ * layers in front; there are at most five classes per period. */
+#define PLM_MASKING_MAX_BARB_RANGES 5
+
+typedef struct plm_masking {
+    double w_barb, w_proximal, w_distal, w_transmission; /* sum to 1, all >= 0 */
+    plm_h_range proximal, distal; /* visible h-interval of each barbule set; rate = its weight */
+    int barb_range_count;
+    plm_h_range barb[PLM_MASKING_MAX_BARB_RANGES]; /* ordered by h, disjoint; rates sum to w_barb */
+} plm_masking;
+
+/* Full masking for a view direction wo in the barb frame (need not be
+ * normalised). Constant time, no allocation. */
+void plm_masking_eval(const plm_masking_params *p, vec3 wo_barb_frame, plm_masking *out);
+
+/* ---- the two levels on their own (used by the full masking, the probe and tests) ---- */
+
+typedef struct plm_barbule_masking {
+    double transmittance; /* fraction of a barbule row's projected period that is gap */
+    double hmin, hmax;    /* visible h-interval of one barbule */
+} plm_barbule_masking;
+
+/* d = (w.r1, w.r2), the view direction in a barbule row's cross-section (need
+ * not be normalised; a zero vector is treated as the row normal). */
+void plm_masking_barbule(double barbule_eccentricity, double barbule_separation, vec2 d, plm_barbule_masking *out);
+
+typedef struct plm_barb_masking {
+    double w_barb, w_proximal, w_distal, w_transmission;
+    int barb_range_count;
+    plm_h_range barb[PLM_MASKING_MAX_BARB_RANGES];
+} plm_barb_masking;
+
+/* d = (w.b, w.n), the view direction in the barb cross-section (need not be
+ * normalised; a zero vector is treated as the normal). t_proximal and
+ * t_distal are the barbule-level transmittances of the two sets, in [0, 1]. */
+void plm_masking_barb(double barb_eccentricity, double barbule_length, double barbule_inclination,
+                      double t_proximal, double t_distal, vec2 d, plm_barb_masking *out);
+
+/* The fiber frame of one barbule set in the barb frame (DESIGN 3.1): its axis,
+ * e2 = r1 (across the barbules, within their row), e3 = r2 (the row normal). */
+typedef struct plm_barbule_frame {
+    vec3 axis, e2, e3;
+} plm_barbule_frame;
+
+void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *proximal,
+                                plm_barbule_frame *distal);
+
+#endif

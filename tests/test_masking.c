@@ -1,0 +1,314 @@
+/* Analytic barb and barbule masking: closed forms, invariants, symmetry,
+ * continuity and robustness (the comparison with explicit 3D geometry is in
+ * test_masking_reference.c and slow_masking.c). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "common/rng.h"
+#include "render/masking.h"
+
+/* cmocka's assert_float_equal works in single precision; these checks need double. */
+#define assert_close(a, b, tol) assert_close_at((a), (b), (tol), #a, __FILE__, __LINE__)
+static void assert_close_at(double a, double b, double tol, const char *what, const char *file, int line)
+{
+    if (!(fabs(a - b) <= tol)) {
+        fprintf(stderr, "%s:%d: %s = %.17g, expected %.17g within %g\n", file, line, what, a, b, tol);
+        fail();
+    }
+}
+
+static double uniform(plm_rng *rng, double lo, double hi) { return lo + (hi - lo) * plm_rng_uniform(rng); }
+
+static plm_masking_params random_params(plm_rng *rng)
+{
+    plm_masking_params p;
+    p.barb_eccentricity = uniform(rng, 0.2, 6.0);
+    p.barbule_eccentricity = uniform(rng, 0.2, 4.0);
+    p.barbule_length = uniform(rng, 0.1, 6.0);
+    p.barbule_separation = plm_rng_uniform(rng) < 0.1 ? 0.0 : uniform(rng, 0.0, 4.0);
+    p.barbule_rotation = plm_radians(uniform(rng, 0.0, 90.0));
+    p.barbule_inclination = plm_radians(uniform(rng, 0.0, 80.0));
+    return p;
+}
+
+static vec3 random_direction(plm_rng *rng)
+{
+    double z = uniform(rng, -1.0, 1.0), phi = uniform(rng, 0.0, PLM_TWO_PI), r = sqrt(1.0 - z * z);
+    return v3(r * cos(phi), z, r * sin(phi)); /* uniform over the sphere; y is the normal */
+}
+
+/* Every invariant a masking result must satisfy, whatever the input. */
+static void check_invariants(const plm_masking *m)
+{
+    double w[4] = {m->w_barb, m->w_proximal, m->w_distal, m->w_transmission};
+    double sum = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        assert_true(isfinite(w[i]));
+        assert_true(w[i] >= 0.0);
+        sum += w[i];
+    }
+    assert_true(fabs(sum - 1.0) < 1e-12);
+    const plm_h_range *sets[2] = {&m->proximal, &m->distal};
+    for (int i = 0; i < 2; ++i) {
+        assert_true(isfinite(sets[i]->hmin) && isfinite(sets[i]->hmax));
+        assert_true(-1.0 <= sets[i]->hmin && sets[i]->hmin <= sets[i]->hmax && sets[i]->hmax <= 1.0);
+    }
+    assert_true(m->barb_range_count >= 0 && m->barb_range_count <= PLM_MASKING_MAX_BARB_RANGES);
+    double rates = 0.0, previous = -1.0;
+    for (int i = 0; i < m->barb_range_count; ++i) {
+        const plm_h_range *g = &m->barb[i];
+        assert_true(isfinite(g->hmin) && isfinite(g->hmax) && isfinite(g->rate));
+        assert_true(previous - 1e-12 <= g->hmin && g->hmin < g->hmax && g->hmax <= 1.0);
+        assert_true(g->rate > 0.0);
+        /* The rate per unit h never exceeds an unobstructed barb's. */
+        previous = g->hmax;
+        rates += g->rate;
+    }
+    assert_true(fabs(rates - m->w_barb) < 1e-12);
+}
+
+/* Normal view, theta_bb = 0: barbs cover 2w of the unit period with
+ * w = 1 / (2 (1 + l_bb)), the flat barbules the rest, and a barbule row seen
+ * along its normal lets through delta / (1 + delta). */
+static void normal_view_has_closed_form_weights(void **state)
+{
+    (void)state;
+    const double cases[][4] = {{1, 1, 1, 1}, {3, 1, 1, 1}, {1, 2.5, 3, 0.3}, {6, 0.5, 0.2, 3}, {2, 1, 4, 0}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        plm_masking_params p;
+        plm_masking_params_default(&p);
+        p.barb_eccentricity = cases[k][0];
+        p.barbule_eccentricity = cases[k][1];
+        p.barbule_length = cases[k][2];
+        p.barbule_separation = cases[k][3];
+        plm_masking m;
+        plm_masking_eval(&p, v3(0.0, 2.0, 0.0), &m);
+        double w = 0.5 / (1.0 + p.barbule_length), t = p.barbule_separation / (1.0 + p.barbule_separation);
+        assert_close(m.w_barb, 2.0 * w, 1e-12);
+        assert_close(m.w_proximal, (0.5 - w) * (1.0 - t), 1e-12);
+        assert_close(m.w_distal, (0.5 - w) * (1.0 - t), 1e-12);
+        assert_close(m.w_transmission, (1.0 - 2.0 * w) * t, 1e-12);
+        assert_int_equal(m.barb_range_count, 1);
+        assert_close(m.barb[0].hmin, -1.0, 1e-12);
+        assert_close(m.barb[0].hmax, 1.0, 1e-12);
+        assert_close(m.proximal.hmin, -1.0, 1e-12);
+        assert_close(m.distal.hmax, 1.0, 1e-12);
+        check_invariants(&m);
+    }
+}
+
+/* Barbule row at view angle alpha from its normal: period cos(alpha),
+ * barbule width 2a sqrt(cos^2 + e^2 sin^2), a = 1 / (2 (1 + delta)). */
+static void barbule_level_has_closed_form(void **state)
+{
+    (void)state;
+    const double e = 1.7, delta = 0.6, a = 0.5 / (1.0 + delta);
+    for (int i = -89; i <= 89; ++i) {
+        double alpha = plm_radians(i);
+        double period = cos(alpha), width = 2.0 * a * sqrt(plm_sqr(cos(alpha)) + plm_sqr(e * sin(alpha)));
+        plm_barbule_masking m;
+        plm_masking_barbule(e, delta, v2(3.0 * sin(alpha), 3.0 * cos(alpha)), &m);
+        if (period > width) {
+            assert_close(m.transmittance, 1.0 - width / period, 1e-12);
+            assert_close(m.hmin, -1.0, 1e-15);
+            assert_close(m.hmax, 1.0, 1e-15);
+        } else {
+            assert_close(m.transmittance, 0.0, 0.0);
+            assert_close(m.hmax - m.hmin, 2.0 * period / width, 1e-12);
+            /* The neighbour on the d_x side hides the high-h side when d_x d_y > 0. */
+            if (i > 0)
+                assert_close(m.hmin, -1.0, 0.0);
+            else
+                assert_close(m.hmax, 1.0, 0.0);
+        }
+        /* From below the row looks the same with h mirrored. */
+        plm_barbule_masking below;
+        plm_masking_barbule(e, delta, v2(sin(alpha), -cos(alpha)), &below);
+        assert_close(below.transmittance, m.transmittance, 1e-12);
+        assert_close(below.hmin, -m.hmax, 1e-12);
+    }
+}
+
+static void touching_barbules_transmit_nothing(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 11, 0);
+    for (int i = 0; i < 20000; ++i) {
+        plm_masking_params p = random_params(&rng);
+        p.barbule_separation = 0.0;
+        vec3 wo = random_direction(&rng);
+        plm_barbule_masking b;
+        plm_masking_barbule(p.barbule_eccentricity, 0.0, v2(wo.x, wo.y), &b);
+        assert_close(b.transmittance, 0.0, 0.0);
+        plm_masking m;
+        plm_masking_eval(&p, wo, &m);
+        assert_close(m.w_transmission, 0.0, 0.0);
+        check_invariants(&m);
+    }
+}
+
+/* Mirroring the view across the barb plane (b -> -b) swaps the proximal and
+ * distal sets and mirrors every h. */
+static void mirror_swaps_proximal_and_distal(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 12, 0);
+    for (int i = 0; i < 20000; ++i) {
+        plm_masking_params p = random_params(&rng);
+        vec3 wo = random_direction(&rng);
+        plm_masking m, r;
+        plm_masking_eval(&p, wo, &m);
+        plm_masking_eval(&p, v3(-wo.x, wo.y, wo.z), &r);
+        assert_close(r.w_barb, m.w_barb, 1e-9);
+        assert_close(r.w_proximal, m.w_distal, 1e-9);
+        assert_close(r.w_distal, m.w_proximal, 1e-9);
+        assert_close(r.w_transmission, m.w_transmission, 1e-9);
+        assert_close(r.proximal.hmin, -m.distal.hmax, 1e-9);
+        assert_close(r.distal.hmax, -m.proximal.hmin, 1e-9);
+        assert_int_equal(r.barb_range_count, m.barb_range_count);
+        for (int k = 0; k < m.barb_range_count; ++k) {
+            const plm_h_range *a = &m.barb[k], *b = &r.barb[m.barb_range_count - 1 - k];
+            assert_close(b->hmin, -a->hmax, 1e-9);
+            assert_close(b->rate, a->rate, 1e-9);
+        }
+    }
+}
+
+/* Random parameters and views, including degenerate ones (along the barb,
+ * along a barbule, in the vane plane, NaN): always a valid result. */
+static void random_and_degenerate_views_give_valid_results(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 13, 0);
+    for (int i = 0; i < 100000; ++i) {
+        plm_masking_params p = random_params(&rng);
+        assert_int_equal(plm_masking_params_validate(&p, NULL), PLM_OK);
+        plm_barbule_frame fp, fd;
+        plm_masking_barbule_frames(&p, &fp, &fd);
+        vec3 special[6] = {v3(0, 0, 1), fp.axis, fd.axis, v3(1, 0, 0), v3(NAN, 1, 0), v3(0, 0, 0)};
+        vec3 wo = i % 10 == 0 ? special[(i / 10) % 6] : random_direction(&rng);
+        plm_masking m;
+        plm_masking_eval(&p, wo, &m);
+        check_invariants(&m);
+    }
+}
+
+/* The barbule frames are orthonormal and right-handed, as DESIGN 3.1 writes them. */
+static void barbule_frames_are_orthonormal(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 14, 0);
+    for (int i = 0; i < 1000; ++i) {
+        plm_masking_params p = random_params(&rng);
+        plm_barbule_frame f[2];
+        plm_masking_barbule_frames(&p, &f[0], &f[1]);
+        for (int k = 0; k < 2; ++k) {
+            assert_close(v3_length(f[k].axis), 1.0, 1e-12);
+            assert_close(v3_length(f[k].e2), 1.0, 1e-12);
+            assert_close(v3_length(f[k].e3), 1.0, 1e-12);
+            assert_close(v3_dot(f[k].axis, f[k].e2), 0.0, 1e-12);
+            assert_close(v3_dot(f[k].axis, f[k].e3), 0.0, 1e-12);
+            assert_close(v3_dot(f[k].e2, f[k].e3), 0.0, 1e-12);
+            /* distal leaves toward +b, proximal toward -b, both rise toward n */
+            assert_true(k == 1 ? f[k].axis.x >= 0.0 : f[k].axis.x <= 0.0);
+            assert_true(f[k].axis.y >= 0.0);
+        }
+    }
+}
+
+/* Along fine sweeps of the view the weights move by a small amount per step;
+ * the only jump is crossing the vane plane (y = 0), where the view goes from
+ * one side of the vane to the other, so the sweeps stay off it. */
+static void weights_are_continuous_along_view_sweeps(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 15, 0);
+    const double step = plm_radians(0.05);
+    for (int sweep = 0; sweep < 60; ++sweep) {
+        plm_masking_params p = random_params(&rng);
+        double azimuth = uniform(&rng, 0.0, PLM_TWO_PI);
+        int upper = sweep % 2 == 0;
+        plm_masking prev = {0};
+        int have_prev = 0;
+        double worst = 0.0;
+        /* inclination from the normal, 0 to 87 degrees, on one side */
+        for (double incl = 0.0; incl < plm_radians(87.0); incl += step) {
+            vec3 wo = v3(sin(incl) * cos(azimuth), upper ? cos(incl) : -cos(incl), sin(incl) * sin(azimuth));
+            plm_masking m;
+            plm_masking_eval(&p, wo, &m);
+            if (have_prev) {
+                double jumps[4] = {m.w_barb - prev.w_barb, m.w_proximal - prev.w_proximal,
+                                   m.w_distal - prev.w_distal, m.w_transmission - prev.w_transmission};
+                for (int k = 0; k < 4; ++k)
+                    worst = fmax(worst, fabs(jumps[k]));
+            }
+            prev = m;
+            have_prev = 1;
+        }
+        if (worst > 0.02)
+            fprintf(stderr, "sweep %d: largest step %g (e_b %g e_bb %g l %g d %g phi %g theta %g azimuth %g)\n", sweep,
+                    worst, p.barb_eccentricity, p.barbule_eccentricity, p.barbule_length, p.barbule_separation,
+                    plm_degrees(p.barbule_rotation), plm_degrees(p.barbule_inclination), plm_degrees(azimuth));
+        assert_true(worst <= 0.02);
+    }
+}
+
+static void validation_names_the_field_and_range(void **state)
+{
+    (void)state;
+    struct {
+        size_t offset;
+        double value;
+        const char *name;
+    } bad[] = {
+        {offsetof(plm_masking_params, barb_eccentricity), 0.0, "barb_eccentricity"},
+        {offsetof(plm_masking_params, barb_eccentricity), -1.0, "barb_eccentricity"},
+        {offsetof(plm_masking_params, barbule_eccentricity), 0.0, "barbule_eccentricity"},
+        {offsetof(plm_masking_params, barbule_length), 0.0, "barbule_length"},
+        {offsetof(plm_masking_params, barbule_length), -2.0, "barbule_length"},
+        {offsetof(plm_masking_params, barbule_separation), -0.1, "barbule_separation"},
+        {offsetof(plm_masking_params, barbule_rotation), plm_radians(91.0), "barbule_rotation"},
+        {offsetof(plm_masking_params, barbule_inclination), plm_radians(90.0), "barbule_inclination"},
+        {offsetof(plm_masking_params, barbule_inclination), -0.1, "barbule_inclination"},
+        {offsetof(plm_masking_params, barbule_separation), NAN, "barbule_separation"},
+        {offsetof(plm_masking_params, barb_eccentricity), INFINITY, "barb_eccentricity"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        plm_masking_params p;
+        plm_masking_params_default(&p);
+        assert_int_equal(plm_masking_params_validate(&p, NULL), PLM_OK);
+        *(double *)((char *)&p + bad[i].offset) = bad[i].value;
+        plm_error err;
+        err.message[0] = '\0';
+        assert_int_equal(plm_masking_params_validate(&p, &err), PLM_ERR_INVALID);
+        assert_non_null(strstr(err.message, bad[i].name));
+        assert_non_null(strstr(err.message, "range"));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(normal_view_has_closed_form_weights),
+        cmocka_unit_test(barbule_level_has_closed_form),
+        cmocka_unit_test(touching_barbules_transmit_nothing),
+        cmocka_unit_test(mirror_swaps_proximal_and_distal),
+        cmocka_unit_test(random_and_degenerate_views_give_valid_results),
+        cmocka_unit_test(barbule_frames_are_orthonormal),
+        cmocka_unit_test(weights_are_continuous_along_view_sweeps),
+        cmocka_unit_test(validation_names_the_field_and_range),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
