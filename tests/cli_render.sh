@@ -1,0 +1,69 @@
+# plumage render end to end: outputs, determinism across threads, Ctrl-C, and
+# bad input (error naming file + field + allowed values, non-zero exit, no output).
+# usage: bash cli_render.sh <plumage> <scratch dir>
+set -u
+source "$(dirname "$0")/lib_cli.sh"
+
+cat > ok.json <<'JSON'
+{
+  "camera": {"position": [0, 1, 3], "look_at": [0, 0, 0]},
+  "film": {"width": 40, "height": 30, "spp": 4, "png": "ok.png", "exr": "ok.exr"},
+  "lights": [{"type": "environment", "radiance": [0.5, 0.5, 0.6]}, {"type": "distant", "direction": [1, 2, 1]}],
+  "meshes": {"floor": {"shape": "quad", "size": [4, 4]}, "ball": {"shape": "sphere", "radius": 0.5}},
+  "materials": {"grey": {"reflectance": [0.5, 0.5, 0.5]}, "sheet": {"transmission": 0.5}},
+  "objects": [{"mesh": "floor", "material": "grey", "transform": {"rotate": [-90, 0, 0]}},
+              {"mesh": "ball", "material": "sheet", "instances": [{"transform": {"translate": [-0.6, 0.5, 0]}},
+                                                                   {"transform": {"translate": [0.6, 0.5, 0]}}]}]
+}
+JSON
+
+expect_ok "render help" "$PLUMAGE" render --help
+expect_output "help lists render" "render" "$PLUMAGE" --help
+expect_ok "render a small scene" "$PLUMAGE" render ok.json --quiet
+if [ -s ok.png ] && [ -s ok.exr ]; then pass "scene outputs written"; else fail "scene outputs written"; fi
+grep -q "non-finite samples: 0" err.txt && pass "no non-finite samples" || fail "no non-finite samples: $(cat err.txt)"
+expect_ok "one thread" "$PLUMAGE" render ok.json --quiet --threads 1 -o t1.png --exr t1.exr
+expect_ok "three threads" "$PLUMAGE" render ok.json --quiet --threads 3 -o t3.png --exr t3.exr
+cmp -s t1.exr t3.exr && pass "bit-identical at 1 and 3 threads" || fail "bit-identical at 1 and 3 threads"
+expect_ok "other seed" "$PLUMAGE" render ok.json --quiet --seed 9 -o s9.png --exr s9.exr
+cmp -s t1.exr s9.exr && fail "another seed changes the image" || pass "another seed changes the image"
+expect_ok "-o alone writes only the PNG" "$PLUMAGE" render ok.json --quiet -o only.png
+if [ -s only.png ] && [ ! -e only.exr ]; then pass "only the PNG"; else fail "only the PNG"; fi
+
+# Ctrl-C: the image so far is written, the exit status says it was interrupted.
+sed 's/"spp": 4/"spp": 100000/; s/ok\.png/int.png/; s/ok\.exr/int.exr/' ok.json > long.json
+"$PLUMAGE" render long.json --quiet 2>int_err.txt &
+pid=$!
+sleep 1.5
+kill -INT $pid
+wait $pid
+status=$?
+if [ $status -eq 130 ] && [ -s int.png ] && [ -s int.exr ] && grep -q interrupted int_err.txt; then
+    pass "Ctrl-C writes the image so far"
+else
+    fail "Ctrl-C writes the image so far (exit $status): $(cat int_err.txt)"
+fi
+
+# bad_scene NAME PATTERN JSON: fails, stderr matches PATTERN, no output file left.
+bad_scene() {
+    local n=$1 p=$2
+    rm -f bad.png bad.exr
+    printf '%s' "$3" > bad.json
+    expect_stderr "$n" "$p" "$PLUMAGE" render bad.json --quiet -o bad.png --exr bad.exr
+    if [ -e bad.png ] || [ -e bad.exr ] || ls .bad* >/dev/null 2>&1; then fail "$n: left an output"; fi
+}
+bad_scene "malformed JSON" "bad.json:1:[0-9]+: malformed JSON" '{"film": {"width": 10,}'
+bad_scene "unknown field" "bad.json: film.widht: unknown field \(allowed: width, height" '{"film": {"widht": 10}}'
+bad_scene "wrong type" "bad.json: film.spp: expected a number in \[1, " '{"film": {"spp": "lots"}}'
+bad_scene "out of range" "bad.json: camera.fov: 0 is out of range \[0.01, 179\]" '{"camera": {"fov": 0}}'
+bad_scene "bad enum" "bad.json: lights\[0\].type: \"spot\" is not one of \"environment\", \"distant\", \"sphere\", \"quad\"" \
+    '{"lights": [{"type": "spot"}]}'
+bad_scene "missing mask file" "bad.json: materials.m.mask: .*nope.png" '{"materials": {"m": {"mask": "nope.png"}}}'
+bad_scene "missing mesh file" "bad.json: meshes.m.file: .*nope.ply" '{"meshes": {"m": {"file": "nope.ply"}}}'
+bad_scene "undefined material" "objects\[0\].material: \"x\" is not defined" \
+    '{"meshes": {"q": {"shape": "quad"}}, "objects": [{"mesh": "q", "material": "x"}]}'
+expect_stderr "missing scene file" "nothing.json" "$PLUMAGE" render nothing.json
+expect_stderr "unknown option" "--frobnicate" "$PLUMAGE" render ok.json --frobnicate
+expect_stderr "spp out of range" "--spp.*\[1, " "$PLUMAGE" render ok.json --spp 0
+expect_fail "no scene" "$PLUMAGE" render
+finish
