@@ -5,7 +5,8 @@
 
 int cmd_probe(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
-int probe_masking(int argc, char **argv);
 int cmd_render(int argc, char **argv);
+int probe_masking(int argc, char **argv);
+int probe_fiber(int argc, char **argv);
 
 #endif

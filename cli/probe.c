@@ -12,6 +12,7 @@ typedef struct probe {
 
 static const probe probes[] = {
     {"masking", probe_masking, "barb/barbule masking weights and h-intervals (analytic or Monte Carlo), Fig. 9 pictures"},
+    {"fiber", probe_fiber, "fiber BCSDF lobes (exit direction, RGB throughput) for view directions and offsets h"},
     {NULL, NULL, NULL}, /* sentinel: probes are added here as the models land */
 };
 
