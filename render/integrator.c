@@ -16,10 +16,11 @@ typedef struct segment {
 
 /* Follows o + t d until it scatters off a surface, hits an area light or
  * escapes; surfaces it meets are passed with their transmission probability. */
-static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, plm_rng *rng, segment *seg)
+static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, plm_rng *rng, segment *seg, long long *rays)
 {
     for (int pass = 0; pass < MAX_PASSES; ++pass) {
         double t_surface = INFINITY, t;
+        ++*rays;
         int surface = plm_world_intersect(w, o, d, INFINITY, &t_surface, &seg->hit);
         int light = -1;
         for (int i = 0; i < w->light_count; ++i) {
@@ -44,16 +45,19 @@ static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, plm_rng *rn
     return END_ABSORBED;
 }
 
-double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist)
+double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist, long long *rays)
 {
     double tmax = dist < INFINITY ? dist * (1.0 - 1e-6) - w->epsilon : INFINITY;
     if (!(tmax > 0.0))
         return 1.0;
+    ++*rays;
     if (!w->transmissive)
         return plm_world_occluded(w, o, d, tmax) ? 0.0 : 1.0;
     double transmittance = 1.0, t;
     plm_hit hit;
     for (int pass = 0; pass < MAX_PASSES; ++pass) {
+        if (pass > 0)
+            ++*rays;
         if (!plm_world_intersect(w, o, d, tmax, &t, &hit))
             return transmittance;
         transmittance *= plm_material_transmission(&hit, v3_neg(d));
@@ -80,7 +84,7 @@ static rgb emission_weight(const plm_world *w, int light, rgb le, vec3 prev_p, v
 
 /* Next-event estimation: one light chosen uniformly, one sample of it. */
 static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *bsdf, plm_rng *rng,
-                        plm_estimator est)
+                        plm_estimator est, long long *rays)
 {
     int li = (int)(plm_rng_uniform(rng) * w->light_count);
     li = li < w->light_count ? li : w->light_count - 1;
@@ -91,7 +95,7 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     rgb f = plm_bsdf_eval(bsdf, ls.wi);
     if (rgb_is_black(f))
         return rgb_gray(0.0);
-    double visible = plm_shadow_transmittance(w, plm_world_offset(w, hit, ls.wi), ls.wi, ls.dist);
+    double visible = plm_shadow_transmittance(w, plm_world_offset(w, hit, ls.wi), ls.wi, ls.dist, rays);
     if (visible <= 0.0)
         return rgb_gray(0.0);
     double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
@@ -100,7 +104,8 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     return rgb_scale(rgb_mul(f, ls.radiance), visible * mis / light_pdf);
 }
 
-rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est, plm_rng *rng)
+rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est, plm_rng *rng,
+                      long long *rays)
 {
     rgb radiance = rgb_gray(0.0), beta = rgb_gray(1.0);
     vec3 prev_p = o;
@@ -108,7 +113,7 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
     segment seg;
     plm_bsdf bsdf;
     for (int depth = 0;; ++depth) {
-        segment_end end = trace_segment(w, o, d, rng, &seg);
+        segment_end end = trace_segment(w, o, d, rng, &seg, rays);
         if (end == END_ABSORBED)
             break;
         if (end == END_LIGHT) {
@@ -130,7 +135,7 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         vec3 wo = v3_neg(d);
         plm_material_bsdf(&seg.hit, wo, rng, &bsdf);
         if (est != PLM_ESTIMATOR_BSDF && w->light_count > 0)
-            radiance = rgb_add(radiance, rgb_mul(beta, direct_light(w, &seg.hit, &bsdf, rng, est)));
+            radiance = rgb_add(radiance, rgb_mul(beta, direct_light(w, &seg.hit, &bsdf, rng, est, rays)));
         double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
         plm_bsdf_sample_rec s;
         if (!plm_bsdf_sample(&bsdf, u0, u1, u2, &s))

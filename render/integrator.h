@@ -16,17 +16,21 @@ typedef enum plm_estimator {
 } plm_estimator;
 
 /* Radiance arriving at o from direction -d along the ray o + t d.
- * max_depth is the most scattering events a path may have (0: emitters seen directly). */
-rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator estimator, plm_rng *rng);
+ * max_depth is the most scattering events a path may have (0: emitters seen
+ * directly). Adds the number of rays cast (surface and shadow queries) to *rays. */
+rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator estimator, plm_rng *rng,
+                      long long *rays);
 
-/* The same kind of rays with no shading at all (cosine bounces off every
- * hit, no lights, no materials): the cost of ray traversal alone, for the
- * shading-overhead figure of `plumage bench render`. Returns the ray count. */
+/* Rays with no shading at all (cosine bounces off every hit up to
+ * max_depth, no lights, no materials, no transmission): the cost of ray
+ * traversal alone, for the per-ray shading overhead of `plumage bench
+ * render`. Returns the ray count. */
 int plm_path_trace_only(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_rng *rng);
 
 /* Fraction of light travelling from p (a surface point, ray already
  * offset) along d that reaches distance dist: 0 behind an opaque surface,
- * the product of the transmissions of the surfaces crossed otherwise. */
-double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist);
+ * the product of the transmissions of the surfaces crossed otherwise.
+ * Adds the queries it made to *rays. */
+double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist, long long *rays);
 
 #endif

@@ -79,7 +79,7 @@ static void render_tile(job *j, int tile, int s0, int s1)
                     rays += plm_path_trace_only(w, o, d, j->max_depth, &rng);
                     continue;
                 }
-                rgb l = plm_path_radiance(w, o, d, j->max_depth, j->opt->estimator, &rng);
+                rgb l = plm_path_radiance(w, o, d, j->max_depth, j->opt->estimator, &rng, &rays);
                 if (!rgb_is_finite(l)) {
                     ++bad;
                     continue;

@@ -35,7 +35,7 @@ typedef struct plm_film {
     float *rgb;               /* width * height * 3: mean radiance over the samples taken */
     int *samples;             /* per pixel: samples taken (all spp unless interrupted) */
     long long sample_count;   /* pixel samples taken in all */
-    long long ray_count;      /* trace_only: rays traced */
+    long long ray_count;      /* rays cast (surface and shadow queries) */
     long long nonfinite;      /* samples that were NaN or infinite: counted, then dropped (taken as 0) */
     int interrupted;          /* stopped by *cancel before all samples were taken */
     double seconds;           /* wall clock of the sampling (not the scene build) */

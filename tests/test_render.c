@@ -95,7 +95,8 @@ static estimate film_mean(const plm_world *w, plm_estimator est, int max_depth, 
         double x = plm_rng_uniform(&rng) * w->camera.width, y = plm_rng_uniform(&rng) * w->camera.height;
         vec3 o, d;
         plm_camera_ray(&w->camera, x, y, 0.5, 0.5, &o, &d);
-        rgb l = plm_path_radiance(w, o, d, max_depth, est, &rng);
+        long long rays = 0;
+        rgb l = plm_path_radiance(w, o, d, max_depth, est, &rng, &rays);
         assert_true(rgb_is_finite(l));
         double v = rgb_mean(l);
         sum += v;
@@ -278,8 +279,8 @@ static void transparent_shadows_agree_with_stochastic_passing(void **state)
     /* Direct attenuation is exactly the transmission for one sheet. */
     double o = 0.0;
     assert_true(plm_world_intersect(&w, v3(0, 3, 0), v3(0, -1, 0), INFINITY, &o, &(plm_hit){0}));
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 1.0, 0.1), v3(0, 1, 0), INFINITY), 0.6, 1e-12);
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.3, 0.1, 0.0), v3(0, 1, 0), INFINITY), 0.0, 0.0);
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 1.0, 0.1), v3(0, 1, 0), INFINITY, &(long long){0}), 0.6, 1e-12);
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.3, 0.1, 0.0), v3(0, 1, 0), INFINITY, &(long long){0}), 0.0, 0.0);
     plm_world_free(&w);
     plm_scene_free(&s);
 }
