@@ -9,5 +9,6 @@ int cmd_render(int argc, char **argv);
 int bench_render(int argc, char **argv);
 int probe_masking(int argc, char **argv);
 int probe_fiber(int argc, char **argv);
+int probe_bcsdf(int argc, char **argv);
 
 #endif

@@ -13,6 +13,7 @@ typedef struct probe {
 static const probe probes[] = {
     {"masking", probe_masking, "barb/barbule masking weights and h-intervals (analytic or Monte Carlo), Fig. 9 pictures"},
     {"fiber", probe_fiber, "fiber BCSDF lobes (exit direction, RGB throughput) for view directions and offsets h"},
+    {"bcsdf", probe_bcsdf, "fiber BCSDF lat-long reflectance plots (PNG + CSV), albedo, Fig. 7 contact sheet"},
     {NULL, NULL, NULL}, /* sentinel: probes are added here as the models land */
 };
 

@@ -137,6 +137,17 @@ static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *se
     return 1;
 }
 
+double plm_fiber_lobe_gm(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int k, double theta)
+{
+    double dt = theta - set->theta[k];
+    return set->gm_scale[k] * exp(-0.5 * dt * dt / (p->beta_m * p->beta_m));
+}
+
+double plm_fiber_lobe_gn(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int k, double phi)
+{
+    return gn_unnormalised(wrap_pi(remainder(phi, PLM_TWO_PI) - set->phi[k]), p->beta_n) / (SQRT_2PI * p->beta_n);
+}
+
 rgb plm_fiber_eval(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi)
 {
     rgb f;

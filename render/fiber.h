@@ -88,6 +88,11 @@ rgb plm_fiber_eval(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec
 /* Solid-angle density of plm_fiber_sample: sum_k P_k G_M G_N / cos(theta_i). */
 double plm_fiber_pdf(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi);
 
+/* The two detectors of lobe k on their own, for plots that exploit their
+ * separability: eval(wi) cos^2(theta_i) = sum_k A_k G_M(theta_i) G_N(phi_i). */
+double plm_fiber_lobe_gm(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int k, double theta);
+double plm_fiber_lobe_gn(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int k, double phi);
+
 typedef struct plm_fiber_sample_rec {
     vec3 wi;
     double pdf;  /* plm_fiber_pdf(wi) */
