@@ -166,7 +166,8 @@ static int write_figure(const char *path, const plm_masking_params *sets, int n_
                     px[2] = (float)m[side].w_barb;
                 }
             }
-            fprintf(stderr, "\rfigure: set %d/%d, row %d/%d", k + 1, n_sets, row + 1, height);
+            if ((row + 1) % 10 == 0 || row + 1 == height)
+                fprintf(stderr, "\rfigure: parameter set %d of %d, row %d of %d", k + 1, n_sets, row + 1, height);
             if (status)
                 break;
         }
@@ -227,7 +228,7 @@ int probe_masking(int argc, char **argv)
         [OPT_REFERENCE] = {"--reference", PLM_OPT_CHOICE, &a.reference, 0, 0, 0, reference_names, "KIND",
                            "monte-carlo: rays against explicit 3D barbs and barbules instead", 0},
         [OPT_SAMPLES] = {"--samples", PLM_OPT_INT, &a.samples, 0, 16, 1 << 26, NULL, "N",
-                         "rays per direction for the Monte Carlo reference (default 4096)", 0},
+                         "rays per direction for the Monte Carlo reference (default 4096; 256 for pictures)", 0},
         [OPT_SEED] = {"--seed", PLM_OPT_INT, &a.seed, 0, 0, 2147483647, NULL, "N",
                       "random seed of the Monte Carlo reference (default 1)", 0},
         [OPT_FIGURE] = {"--figure", PLM_OPT_STRING, &a.figure, 0, 0, 0, NULL, "FILE.png",
@@ -268,6 +269,8 @@ int probe_masking(int argc, char **argv)
         fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
         return 2;
     }
+    if ((a.figure || a.figure9) && !opts[OPT_SAMPLES].seen)
+        a.samples = 256; /* a picture has many directions; its noise is seen, not measured */
     if (a.figure9)
         return write_figure9(a.figure9, a.width, a.samples, (uint64_t)a.seed);
     if (a.figure)

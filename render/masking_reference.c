@@ -314,6 +314,29 @@ static int trace(const plm_masking_reference *ref, vec3 o, vec3 v, vec3 wo, doub
     return -2;
 }
 
+/* Hits are uniform in h over what is visible, so the interval is read off
+ * their histogram, leaving out H_TRIM of the hits at each end: rays that
+ * slip past the cut ends of a barbule row (where a neighbour is missing) or
+ * the wedge between a barb and its barbules' roots would otherwise stretch
+ * it. Each end is accurate to about one bin plus H_TRIM of its width. */
+#define H_BINS 400
+#define H_TRIM 0.01
+static void h_interval(const double *histogram, double count, double *lo, double *hi)
+{
+    *lo = *hi = 0.0;
+    if (count <= 0.0)
+        return;
+    double below = 0.0;
+    int first = 0, last = H_BINS - 1;
+    while (first < H_BINS - 1 && below + histogram[first] <= H_TRIM * count)
+        below += histogram[first++];
+    double above = 0.0;
+    while (last > first && above + histogram[last] <= H_TRIM * count)
+        above += histogram[last--];
+    *lo = -1.0 + 2.0 * first / H_BINS;
+    *hi = -1.0 + 2.0 * (last + 1) / H_BINS;
+}
+
 plm_result plm_masking_reference_eval(const plm_masking_reference *ref, vec3 wo, unsigned samples, uint64_t seed,
                                       plm_masking *out, plm_error *err)
 {
@@ -335,7 +358,8 @@ plm_result plm_masking_reference_eval(const plm_masking_reference *ref, vec3 wo,
     plm_rng rng;
     plm_rng_seed(&rng, seed, 0x7265664dULL);
     double count[3] = {0, 0, 0}, through = 0.0;
-    double hlo[3] = {1, 1, 1}, hhi[3] = {-1, -1, -1};
+    static const int bins = H_BINS;
+    double histogram[3][H_BINS] = {{0}};
     for (unsigned iz = 0; iz < nz; ++iz)
         for (unsigned ix = 0; ix < nx; ++ix) {
             double x = ref->x0 + span_x * (ix + plm_rng_uniform(&rng)) / nx;
@@ -349,13 +373,13 @@ plm_result plm_masking_reference_eval(const plm_masking_reference *ref, vec3 wo,
                 continue;
             }
             count[kind] += 1.0;
-            hlo[kind] = fmin(hlo[kind], h);
-            hhi[kind] = fmax(hhi[kind], h);
+            int bin = (int)((h + 1.0) * 0.5 * bins);
+            histogram[kind][bin < 0 ? 0 : bin >= bins ? bins - 1 : bin] += 1.0;
         }
     double n = (double)nx * (double)nz;
+    double hlo[3], hhi[3];
     for (int k = 0; k < 3; ++k)
-        if (count[k] == 0.0)
-            hlo[k] = hhi[k] = 0.0;
+        h_interval(histogram[k], count[k], &hlo[k], &hhi[k]);
     out->w_barb = count[KIND_BARB] / n;
     out->w_proximal = count[KIND_PROXIMAL] / n;
     out->w_distal = count[KIND_DISTAL] / n;

@@ -47,9 +47,11 @@ void plm_masking_reference_destroy(plm_masking_reference *ref);
 /* Casts `samples` parallel rays (a jittered grid over one period of the
  * scene) from direction wo (toward the viewer, barb frame, need not be
  * normalised) and fills out with the fractions that hit the barb, the
- * proximal and distal barbules first or pass through. The h-intervals are the
- * smallest and largest h of the hits on each kind (DESIGN 3.2), and the barb
- * has one range [hmin, hmax] holding w_barb; a kind never hit gets [0, 0].
+ * proximal and distal barbules first or pass through. The h-intervals
+ * (DESIGN 3.2) span the hits on each kind less 1% of them at each end (rays
+ * slipping past the cut ends of barbule rows would stretch them; each end is
+ * good to about 0.02), and the barb has one range [hmin, hmax] holding w_barb;
+ * a kind never hit gets [0, 0].
  * Fails for views within 1e-6 of the vane plane, which never leave it. */
 plm_result plm_masking_reference_eval(const plm_masking_reference *ref, vec3 wo, unsigned samples, uint64_t seed,
                                       plm_masking *out, plm_error *err);

@@ -1,0 +1,150 @@
+/* The analytic masking against explicit 3D barbs and barbules (Embree Monte
+ * Carlo), on the paper's Fig. 9 parameter sets with a coarse grid of views;
+ * slow_masking.c repeats it finely and measures a wider sweep. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "tests/masking_compare.h"
+
+/* REFERENCES.md: e_bb = 1, delta_bb = 1, phi_bb = 45 deg and either
+ * (e_b 3, l_bb 1, theta_bb 0) or (e_b 1, l_bb 3, theta_bb 45 deg). */
+static plm_masking_params figure9_set(int which)
+{
+    plm_masking_params p;
+    plm_masking_params_default(&p);
+    p.barb_eccentricity = which == 0 ? 3.0 : 1.0;
+    p.barbule_length = which == 0 ? 1.0 : 3.0;
+    p.barbule_inclination = plm_radians(which == 0 ? 0.0 : 45.0);
+    return p;
+}
+
+static plm_masking_reference *make_reference(const plm_masking_params *p)
+{
+    plm_masking_reference *ref = NULL;
+    plm_error err;
+    if (plm_masking_reference_create(p, NULL, &ref, &err) != PLM_OK)
+        fprintf(stderr, "%s\n", err.message);
+    assert_non_null(ref);
+    return ref;
+}
+
+/* theta_bb = 0: the DESIGN frames are the geometry's own, so the product's
+ * masking must match the rays within 60 degrees of the normal, both sides. */
+static void figure9_flat_barbules_match_explicit_geometry(void **state)
+{
+    (void)state;
+    plm_masking_params p = figure9_set(0);
+    plm_masking_reference *ref = make_reference(&p);
+    masking_agreement a = masking_compare(&p, ref, masking_design_frames, 5.0, 55.0, 10.0, 30.0, 4096, 100);
+    masking_agreement_print("Fig. 9 set 1, DESIGN frames, polar <= 55", &a);
+    assert_true(a.views > 0);
+    assert_true(masking_agreement_worst_mean(&a) <= 0.01);
+    plm_masking_reference_destroy(ref);
+}
+
+/* theta_bb = 45 deg: the level computations composed with the geometry's own
+ * row frames and rise must match; the DESIGN-frame model is only measured
+ * here (see the README's Masking section for why it differs). */
+static void figure9_inclined_barbules_levels_match_explicit_geometry(void **state)
+{
+    (void)state;
+    plm_masking_params p = figure9_set(1);
+    plm_masking_reference *ref = make_reference(&p);
+    masking_agreement a = masking_compare(&p, ref, masking_rooted_frames, 5.0, 55.0, 10.0, 30.0, 4096, 200);
+    masking_agreement_print("Fig. 9 set 2, geometry's frames, polar <= 55", &a);
+    assert_true(a.views > 0);
+    assert_true(masking_agreement_worst_mean(&a) <= 0.01);
+    masking_agreement d = masking_compare(&p, ref, masking_design_frames, 5.0, 55.0, 10.0, 30.0, 4096, 200);
+    masking_agreement_print("Fig. 9 set 2, DESIGN frames (measured)", &d);
+    plm_masking_reference_destroy(ref);
+}
+
+/* Normal view, theta_bb = 0: the rays see barb 2w, barbules (1 - 2w) of
+ * which delta / (1 + delta) is gap; within 4 binomial sigmas. */
+static void reference_normal_view_matches_closed_form(void **state)
+{
+    (void)state;
+    plm_masking_params p;
+    plm_masking_params_default(&p);
+    p.barbule_length = 2.0;
+    p.barbule_separation = 0.5;
+    plm_masking_reference *ref = make_reference(&p);
+    plm_masking r;
+    plm_error err;
+    unsigned n = 16384;
+    assert_int_equal(plm_masking_reference_eval(ref, v3(0, 1, 0), n, 7, &r, &err), PLM_OK);
+    double w = 0.5 / 3.0, t = 0.5 / 1.5;
+    double expect[4] = {2 * w, (0.5 - w) * (1 - t), (0.5 - w) * (1 - t), (1 - 2 * w) * t};
+    double got[4] = {r.w_barb, r.w_proximal, r.w_distal, r.w_transmission};
+    for (int k = 0; k < 4; ++k)
+        assert_true(fabs(got[k] - expect[k]) <= 4.0 * sqrt(expect[k] * (1 - expect[k]) / n));
+    /* the same seed gives the same counts */
+    plm_masking again;
+    assert_int_equal(plm_masking_reference_eval(ref, v3(0, 1, 0), n, 7, &again, &err), PLM_OK);
+    assert_true(again.w_barb == r.w_barb && again.w_transmission == r.w_transmission);
+    plm_masking_reference_destroy(ref);
+}
+
+/* Where barbules hide each other, the hits on them cover the h-interval the
+ * barbule level predicts (theta_bb = 0, where the frames agree). */
+static void reference_barbule_h_intervals_match(void **state)
+{
+    (void)state;
+    plm_masking_params p;
+    plm_masking_params_default(&p);
+    plm_masking_reference *ref = make_reference(&p);
+    const double views[][3] = {{0.6, 0.5, 0.6}, {-0.7, 0.45, 0.2}, {0.3, -0.4, -0.8}};
+    for (int i = 0; i < 3; ++i) {
+        vec3 wo = v3(views[i][0], views[i][1], views[i][2]);
+        plm_masking m, r;
+        plm_error err;
+        plm_masking_eval(&p, wo, &m);
+        assert_int_equal(plm_masking_reference_eval(ref, wo, 16384, 9, &r, &err), PLM_OK);
+        const plm_h_range *a[2] = {&m.proximal, &m.distal}, *b[2] = {&r.proximal, &r.distal};
+        for (int k = 0; k < 2; ++k)
+            if (a[k]->rate > 0.05) {
+                if (fabs(a[k]->hmin - b[k]->hmin) >= 0.05 || fabs(a[k]->hmax - b[k]->hmax) >= 0.05)
+                    fprintf(stderr, "view %d set %d: analytic [%g, %g], rays [%g, %g]\n", i, k, a[k]->hmin,
+                            a[k]->hmax, b[k]->hmin, b[k]->hmax);
+                assert_true(fabs(a[k]->hmin - b[k]->hmin) < 0.05);
+                assert_true(fabs(a[k]->hmax - b[k]->hmax) < 0.05);
+            }
+    }
+    plm_masking_reference_destroy(ref);
+}
+
+static void reference_rejects_bad_input(void **state)
+{
+    (void)state;
+    plm_masking_params p;
+    plm_masking_params_default(&p);
+    plm_masking_reference *ref = NULL;
+    plm_error err;
+    p.barbule_rotation = 0.0;
+    assert_int_equal(plm_masking_reference_create(&p, NULL, &ref, &err), PLM_ERR_INVALID);
+    assert_null(ref);
+    plm_masking_params_default(&p);
+    p.barbule_length = -1.0;
+    assert_int_equal(plm_masking_reference_create(&p, NULL, &ref, &err), PLM_ERR_INVALID);
+    plm_masking_params_default(&p);
+    ref = make_reference(&p);
+    plm_masking r;
+    assert_int_equal(plm_masking_reference_eval(ref, v3(1, 0, 0), 64, 1, &r, &err), PLM_ERR_INVALID);
+    assert_int_equal(plm_masking_reference_eval(ref, v3(NAN, 1, 0), 64, 1, &r, &err), PLM_ERR_INVALID);
+    plm_masking_reference_destroy(ref);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(figure9_flat_barbules_match_explicit_geometry),
+        cmocka_unit_test(figure9_inclined_barbules_levels_match_explicit_geometry),
+        cmocka_unit_test(reference_normal_view_matches_closed_form),
+        cmocka_unit_test(reference_barbule_h_intervals_match),
+        cmocka_unit_test(reference_rejects_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
