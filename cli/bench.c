@@ -52,6 +52,7 @@ typedef struct bench {
 
 static const bench benches[] = {
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
+    {"fiber", bench_fiber, "fiber BCSDF: single-thread ns per prepare+eval and prepare+sample, Fig. 7 fibers"},
     {NULL, NULL, NULL}, /* sentinel: benchmarks are added here as the parts land */
 };
 

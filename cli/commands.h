@@ -10,5 +10,6 @@ int bench_render(int argc, char **argv);
 int probe_masking(int argc, char **argv);
 int probe_fiber(int argc, char **argv);
 int probe_bcsdf(int argc, char **argv);
+int bench_fiber(int argc, char **argv);
 
 #endif

@@ -128,26 +128,6 @@ static int write_sheet(const char *path, const latlong *plots, int n, int cols)
     return 1;
 }
 
-/* The four fibers of the paper's Fig. 7 (REFERENCES.md). */
-static const char *const figure7_names[4] = {"circular", "elliptical", "concentric_medulla", "offcentre_medulla"};
-
-static plm_fiber_params figure7_params(int variant)
-{
-    plm_fiber_params p;
-    plm_fiber_params_default(&p);
-    p.eta = 1.53;
-    p.sigma_a = rgb_make(0.133, 1.967, 2.1);
-    p.beta_m = 0.13;
-    p.beta_n = 0.12;
-    p.eccentricity = variant == 0 ? 1.0 : 1.6;
-    if (variant >= 2) {
-        p.medulla_a = p.medulla_b = 0.6;
-        p.medulla_ca = variant == 3 ? -0.1 : 0.0;
-        p.medulla_cb = variant == 3 ? 0.1 : 0.0;
-    }
-    return p;
-}
-
 static char *join(char *buf, size_t size, const char *dir, const char *name, const char *ext)
 {
     snprintf(buf, size, "%s/%s.%s", dir, name, ext);
@@ -205,7 +185,7 @@ int probe_bcsdf(int argc, char **argv)
     plm_fiber_params params[4];
     if (figure7) {
         for (int k = 0; k < 4; ++k)
-            params[k] = figure7_params(k);
+            plm_fiber_params_figure7(&params[k], k);
     } else if (!plm_fiber_cli_params(&fc, "plumage probe bcsdf", &params[0])) {
         return 2;
     }
@@ -225,7 +205,7 @@ int probe_bcsdf(int argc, char **argv)
     }
     char path[4200], name[64];
     for (int k = 0; k < n && ok; ++k) {
-        snprintf(name, sizeof name, figure7 ? "figure7_%s" : "bcsdf", figure7_names[k]);
+        snprintf(name, sizeof name, figure7 ? "figure7_%s" : "bcsdf", plm_fiber_figure7_names[k]);
         ok = write_csv(join(path, sizeof path, out_dir, name, "csv"), &plots[k]);
     }
     if (ok)
@@ -234,7 +214,7 @@ int probe_bcsdf(int argc, char **argv)
     if (ok) {
         printf("fiber,albedo_r,albedo_g,albedo_b\n");
         for (int k = 0; k < n; ++k)
-            printf("%s,%.6f,%.6f,%.6f\n", figure7 ? figure7_names[k] : "bcsdf", plots[k].albedo.r, plots[k].albedo.g,
+            printf("%s,%.6f,%.6f,%.6f\n", figure7 ? plm_fiber_figure7_names[k] : "bcsdf", plots[k].albedo.r, plots[k].albedo.g,
                    plots[k].albedo.b);
     }
     for (int k = 0; k < n; ++k)

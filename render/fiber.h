@@ -38,6 +38,14 @@ typedef struct plm_fiber_params { /* zero-init is NOT valid; use plm_fiber_param
  * beta_n = 0.12 rad (paper Fig. 7), no medulla (white if enabled), 5 lobes. */
 void plm_fiber_params_default(plm_fiber_params *p);
 
+/* The four fibers of the paper's Fig. 7 (REFERENCES.md), by variant: 0
+ * circular, 1 elliptical e = 1.6, 2 with a concentric medulla of radius 0.6,
+ * 3 with that medulla centred at (-0.1, 0.1); all with sigma_a = (0.133,
+ * 1.967, 2.1), eta = 1.53, beta_m = 0.13, beta_n = 0.12, a white medulla. */
+#define PLM_FIBER_FIGURE7_VARIANTS 4
+void plm_fiber_params_figure7(plm_fiber_params *p, int variant);
+extern const char *const plm_fiber_figure7_names[PLM_FIBER_FIGURE7_VARIANTS];
+
 /* Checks every field; the message names the field and its allowed range, or
  * says how the medulla pokes out of the cortex. */
 plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err);

@@ -25,6 +25,24 @@ void plm_fiber_params_default(plm_fiber_params *p)
     p->lobes = 5;
 }
 
+const char *const plm_fiber_figure7_names[PLM_FIBER_FIGURE7_VARIANTS] = {"circular", "elliptical",
+                                                                          "concentric_medulla", "offcentre_medulla"};
+
+void plm_fiber_params_figure7(plm_fiber_params *p, int variant)
+{
+    plm_fiber_params_default(p);
+    p->eta = 1.53;
+    p->sigma_a = rgb_make(0.133, 1.967, 2.1);
+    p->beta_m = 0.13;
+    p->beta_n = 0.12;
+    p->eccentricity = variant == 0 ? 1.0 : 1.6;
+    if (variant >= 2) {
+        p->medulla_a = p->medulla_b = 0.6;
+        p->medulla_ca = variant == 3 ? -0.1 : 0.0;
+        p->medulla_cb = variant == 3 ? 0.1 : 0.0;
+    }
+}
+
 /* ---- validation ---------------------------------------------------------- */
 
 static int in_range(double v, double lo, double hi) { return v >= lo && v <= hi; } /* false for NaN */

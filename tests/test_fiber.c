@@ -107,20 +107,15 @@ static void elliptical_fiber_vertex_rays(void **state)
     }
 }
 
-/* The Fig. 7 fibers: circular, elliptical (e = 1.6), and e = 1.6 with a
- * concentric (r = 0.6) or off-centre ((-0.1, 0.1)) medulla. */
+/* A Fig. 7 fiber's cross-section (REFERENCES.md), clear, with the given
+ * eccentricity and medulla reflectance. */
 static plm_fiber_params fiber_variant(int variant, double eccentricity, rgb medulla_reflectance)
 {
     plm_fiber_params p;
-    plm_fiber_params_default(&p);
-    p.eta = 1.53;
+    plm_fiber_params_figure7(&p, variant);
+    p.sigma_a = rgb_gray(0.0);
     p.eccentricity = eccentricity;
-    if (variant >= 2) {
-        p.medulla_a = p.medulla_b = 0.6;
-        p.medulla_ca = variant == 3 ? -0.1 : 0.0;
-        p.medulla_cb = variant == 3 ? 0.1 : 0.0;
-        p.medulla_reflectance = medulla_reflectance;
-    }
+    p.medulla_reflectance = medulla_reflectance;
     assert_int_equal(plm_fiber_params_validate(&p, NULL), PLM_OK);
     return p;
 }

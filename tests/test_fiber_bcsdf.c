@@ -12,22 +12,11 @@
 
 #include "render/fiber.h"
 
-/* Fig. 7 parameters (REFERENCES.md) with a chosen cross-section variant:
- * 0 circular, 1 elliptical e = 1.6, 2 concentric medulla r = 0.6, 3 medulla at (-0.1, 0.1). */
+/* A Fig. 7 fiber (REFERENCES.md), checked valid. */
 static plm_fiber_params figure7(int variant)
 {
     plm_fiber_params p;
-    plm_fiber_params_default(&p);
-    p.eta = 1.53;
-    p.sigma_a = rgb_make(0.133, 1.967, 2.1);
-    p.beta_m = 0.13;
-    p.beta_n = 0.12;
-    p.eccentricity = variant == 0 ? 1.0 : 1.6;
-    if (variant >= 2) {
-        p.medulla_a = p.medulla_b = 0.6;
-        p.medulla_ca = variant == 3 ? -0.1 : 0.0;
-        p.medulla_cb = variant == 3 ? 0.1 : 0.0;
-    }
+    plm_fiber_params_figure7(&p, variant);
     assert_int_equal(plm_fiber_params_validate(&p, NULL), PLM_OK);
     return p;
 }

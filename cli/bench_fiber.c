@@ -1,0 +1,133 @@
+/* plumage bench fiber: single-thread nanoseconds per fiber BCSDF query for
+ * the paper's four Fig. 7 fibers. A shading query traces a lobe set
+ * (plm_fiber_prepare) and then evaluates or samples it, so the headline
+ * figures are prepare + eval and prepare + sample; the parts are timed too. */
+#include <stdio.h>
+
+#include "cli/bench.h"
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "render/fiber.h"
+
+enum { N_QUERIES = 4096 }; /* a power of two: cycled with a mask */
+
+/* Random (uniform on the sphere) directions and sample numbers, drawn before
+ * timing so the timed loops measure the BCSDF alone. */
+typedef struct fiber_bench {
+    plm_fiber_params params;
+    vec3 wo[N_QUERIES], wi[N_QUERIES];
+    double u[N_QUERIES][3];
+    plm_fiber_lobe_set sets[N_QUERIES]; /* prepared, for timing eval and sample alone */
+    plm_rng rng;
+    volatile double sink; /* keeps the results alive */
+} fiber_bench;
+
+static void bench_prepare_eval(void *ctx, long calls)
+{
+    fiber_bench *b = ctx;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i) {
+        plm_fiber_lobe_set set;
+        plm_fiber_prepare(&b->params, b->wo[i & (N_QUERIES - 1)], -1.0, 1.0, &b->rng, &set);
+        acc += plm_fiber_eval(&b->params, &set, b->wi[i & (N_QUERIES - 1)]).g;
+    }
+    b->sink = acc;
+}
+
+static void bench_prepare_sample(void *ctx, long calls)
+{
+    fiber_bench *b = ctx;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i) {
+        int q = (int)(i & (N_QUERIES - 1));
+        plm_fiber_lobe_set set;
+        plm_fiber_sample_rec rec;
+        plm_fiber_prepare(&b->params, b->wo[q], -1.0, 1.0, &b->rng, &set);
+        if (plm_fiber_sample(&b->params, &set, b->u[q][0], b->u[q][1], b->u[q][2], &rec))
+            acc += rec.pdf;
+    }
+    b->sink = acc;
+}
+
+static void bench_prepare(void *ctx, long calls)
+{
+    fiber_bench *b = ctx;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i) {
+        plm_fiber_lobe_set set;
+        plm_fiber_prepare(&b->params, b->wo[i & (N_QUERIES - 1)], -1.0, 1.0, &b->rng, &set);
+        acc += set.total;
+    }
+    b->sink = acc;
+}
+
+static void bench_eval(void *ctx, long calls)
+{
+    fiber_bench *b = ctx;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i)
+        acc += plm_fiber_eval(&b->params, &b->sets[i & (N_QUERIES - 1)], b->wi[(i * 7) & (N_QUERIES - 1)]).g;
+    b->sink = acc;
+}
+
+static void bench_sample(void *ctx, long calls)
+{
+    fiber_bench *b = ctx;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i) {
+        int q = (int)(i & (N_QUERIES - 1));
+        plm_fiber_sample_rec rec;
+        if (plm_fiber_sample(&b->params, &b->sets[q], b->u[q][0], b->u[q][1], b->u[q][2], &rec))
+            acc += rec.pdf;
+    }
+    b->sink = acc;
+}
+
+static vec3 random_direction(plm_rng *rng)
+{
+    double z = 2.0 * plm_rng_uniform(rng) - 1.0;
+    return plm_fiber_direction(asin(z), PLM_TWO_PI * plm_rng_uniform(rng));
+}
+
+int bench_fiber(int argc, char **argv)
+{
+    int runs = 7, calls = 200000, lobes = 5;
+    plm_option opts[] = {
+        {"--runs", PLM_OPT_INT, &runs, 0, 1, 64, NULL, "N", "timed runs; the median is reported (default 7)", 0},
+        {"--calls", PLM_OPT_INT, &calls, 0, 1000, 100000000, NULL, "N", "calls per timed run (default 200000)", 0},
+        {"--lobes", PLM_OPT_INT, &lobes, 0, 1, PLM_FIBER_SET_MAX_LOBES, NULL, "N", "lobes per set (default 5)", 0},
+    };
+    const plm_command_help help = {
+        "plumage bench fiber [options]",
+        "Single-thread nanoseconds per fiber BCSDF call for the four Fig. 7 fibers, over random view and\n"
+        "light directions (uniform on the sphere) and h uniform in [-1, 1]: prepare + eval and prepare + sample\n"
+        "(what a shading query costs), and prepare, eval and sample alone. Median of --runs runs."};
+    int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
+    if (rc)
+        return rc == 1 ? 0 : 2;
+    static fiber_bench b;
+    printf("fiber,lobes,prepare_eval_ns,prepare_sample_ns,prepare_ns,eval_ns,sample_ns,mean_lobes_kept\n");
+    for (int v = 0; v < PLM_FIBER_FIGURE7_VARIANTS; ++v) {
+        plm_fiber_params_figure7(&b.params, v);
+        b.params.lobes = lobes;
+        plm_rng_seed(&b.rng, 2024, (uint64_t)v);
+        double kept = 0.0;
+        for (int q = 0; q < N_QUERIES; ++q) {
+            b.wo[q] = random_direction(&b.rng);
+            b.wi[q] = random_direction(&b.rng);
+            for (int k = 0; k < 3; ++k)
+                b.u[q][k] = plm_rng_uniform(&b.rng);
+            plm_fiber_prepare(&b.params, b.wo[q], -1.0, 1.0, &b.rng, &b.sets[q]);
+            kept += b.sets[q].count;
+        }
+        double t_pe = plm_bench_ns_per_call(bench_prepare_eval, &b, calls, runs);
+        double t_ps = plm_bench_ns_per_call(bench_prepare_sample, &b, calls, runs);
+        double t_p = plm_bench_ns_per_call(bench_prepare, &b, calls, runs);
+        double t_e = plm_bench_ns_per_call(bench_eval, &b, calls, runs);
+        double t_s = plm_bench_ns_per_call(bench_sample, &b, calls, runs);
+        printf("%s,%d,%.1f,%.1f,%.1f,%.1f,%.1f,%.2f\n", plm_fiber_figure7_names[v], lobes, t_pe, t_ps, t_p, t_e, t_s,
+               kept / N_QUERIES);
+        fflush(stdout);
+    }
+    return 0;
+}
