@@ -12,6 +12,8 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
+    {"generate", cmd_generate, "build a feather (meshes, textures, scene) from a species preset"},
+    {"texture", cmd_texture, "re-author a species' feather and pigment textures alone"},
     {"probe", cmd_probe, "answer questions about the optical models without rendering (CSV and plots)"},
     {"render", cmd_render, "render a scene file to a linear EXR and a tone-mapped PNG (path tracer)"},
     {"bench", cmd_bench, "print performance figures (ns per call, samples per second, memory)"},

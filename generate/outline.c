@@ -1,0 +1,255 @@
+#include "generate/outline.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "common/json.h"
+
+/* Tangents of a monotone piecewise cubic through the profile's points
+ * (Fritsch & Butland 1984): no overshoot, so widths stay >= 0 and the widest
+ * control point is the widest point of the curve. */
+static void monotone_slopes(const plm_width_profile *w, double *m)
+{
+    int n = w->count;
+    double d[PLM_WIDTH_POINTS_MAX], h[PLM_WIDTH_POINTS_MAX];
+    for (int k = 0; k + 1 < n; ++k) {
+        h[k] = w->t[k + 1] - w->t[k];
+        d[k] = (w->width[k + 1] - w->width[k]) / h[k];
+    }
+    m[0] = d[0];
+    m[n - 1] = d[n - 2];
+    for (int k = 1; k + 1 < n; ++k)
+        m[k] = d[k - 1] * d[k] <= 0.0 ? 0.0
+                                      : 3.0 * (h[k - 1] + h[k]) /
+                                            ((2.0 * h[k] + h[k - 1]) / d[k - 1] + (h[k] + 2.0 * h[k - 1]) / d[k]);
+    /* End slopes are one-sided; limit them so the end intervals stay monotone. */
+    if (m[0] * d[0] < 0.0 || fabs(m[0]) > 3.0 * fabs(d[0]))
+        m[0] = 0.0;
+    if (m[n - 1] * d[n - 2] < 0.0 || fabs(m[n - 1]) > 3.0 * fabs(d[n - 2]))
+        m[n - 1] = 0.0;
+}
+
+static double profile(const plm_width_profile *w, const double *m, double t)
+{
+    int k = 0;
+    while (k + 2 < w->count && t > w->t[k + 1])
+        ++k;
+    double h = w->t[k + 1] - w->t[k];
+    double s = plm_clamp((t - w->t[k]) / h, 0.0, 1.0), s2 = s * s, s3 = s2 * s;
+    return (2 * s3 - 3 * s2 + 1) * w->width[k] + (s3 - 2 * s2 + s) * h * m[k] + (-2 * s3 + 3 * s2) * w->width[k + 1] +
+           (s3 - s2) * h * m[k + 1];
+}
+
+/* Position within the tip region: 0 where the tip starts closing, 1 at the tip. */
+static double tip_tau(const plm_outline *o, double t)
+{
+    double start = 1.0 - o->shape.tip_length;
+    return t <= start ? 0.0 : plm_clamp((t - start) / o->shape.tip_length, 0.0, 1.0);
+}
+
+double plm_outline_width(const plm_outline *o, int side, double t)
+{
+    if (t < 0.0 || t > 1.0)
+        return 0.0;
+    double w = profile(&o->shape.width[side], o->slope[side], t), tau = tip_tau(o, t);
+    double round = sqrt(fmax(0.0, 1.0 - tau * tau));
+    switch (o->shape.tip_shape) {
+    case PLM_TIP_POINTED: return w * (1.0 - tau);
+    case PLM_TIP_NOTCHED: return 0.5 * w * (1.0 + round); /* the outer edge of the lobe */
+    default: return w * round;
+    }
+}
+
+/* Notched tips: the inner edge of a side's lobe (0 elsewhere). */
+static double notch_inner_width(const plm_outline *o, int side, double t)
+{
+    if (o->shape.tip_shape != PLM_TIP_NOTCHED)
+        return 0.0;
+    double tau = tip_tau(o, t);
+    return 0.5 * profile(&o->shape.width[side], o->slope[side], t) * (1.0 - sqrt(fmax(0.0, 1.0 - tau * tau)));
+}
+
+double plm_outline_rachis_radius(const plm_outline *o, double y)
+{
+    if (y < 0.0 || y > o->rachis_end)
+        return 0.0;
+    const plm_shape *sh = &o->shape;
+    double s = y / o->rachis_end;
+    return 0.5 * (sh->rachis_base_width + (sh->rachis_tip_width - sh->rachis_base_width) * pow(s, sh->rachis_taper));
+}
+
+/* d r / d y */
+static double rachis_radius_slope(const plm_outline *o, double y)
+{
+    if (y <= 0.0 || y > o->rachis_end)
+        return 0.0;
+    const plm_shape *sh = &o->shape;
+    double s = y / o->rachis_end;
+    return 0.5 * (sh->rachis_tip_width - sh->rachis_base_width) * sh->rachis_taper *
+           pow(s, sh->rachis_taper - 1.0) / o->rachis_end;
+}
+
+double plm_outline_barb_angle(const plm_outline *o, int side, double y)
+{
+    const plm_shape *sh = &o->shape;
+    return sh->barb_angle_base[side] +
+           (sh->barb_angle_tip[side] - sh->barb_angle_base[side]) * (y - o->vane_base) / o->vane_length;
+}
+
+void plm_outline_row_at(const plm_outline *o, double y, plm_outline_row *row)
+{
+    const plm_shape *sh = &o->shape;
+    row->y = y;
+    row->t = (y - o->vane_base) / o->vane_length;
+    row->r = plm_outline_rachis_radius(o, y);
+    row->dr = rachis_radius_slope(o, y);
+    for (int side = 0; side < 2; ++side) {
+        double theta = plm_outline_barb_angle(o, side, y);
+        row->theta[side] = theta;
+        row->dtheta[side] = (sh->barb_angle_tip[side] - sh->barb_angle_base[side]) / o->vane_length;
+        row->sin_t[side] = sin(theta);
+        row->cot_t[side] = cos(theta) / row->sin_t[side];
+        row->log_sin_t[side] = log(row->sin_t[side]);
+        row->inv_sin2_t[side] = 1.0 / (row->sin_t[side] * row->sin_t[side]);
+        row->span[side] = o->widest[side] - row->r;
+        row->inv_span[side] = 1.0 / row->span[side];
+        row->span_per_kappa[side] = fabs(sh->barb_curvature) < 1e-9 ? 0.0 : row->span[side] / sh->barb_curvature;
+        row->kappa_dr[side] = sh->barb_curvature * row->dr * row->inv_span[side] * row->inv_span[side];
+        row->width[side] = plm_outline_width(o, side, row->t);
+        row->notch[side] = notch_inner_width(o, side, row->t);
+    }
+}
+
+/* F(a, y) of the header with its partial derivatives. */
+typedef struct barb_rise {
+    double f, fa, fy;
+} barb_rise;
+
+static barb_rise rise(const plm_outline *o, const plm_outline_row *row, int side, double a)
+{
+    double dtheta = row->dtheta[side], r = row->r, cot_t = row->cot_t[side];
+    double kappa = o->shape.barb_curvature;
+    barb_rise b;
+    if (a <= r || fabs(kappa) < 1e-9) { /* a straight barb */
+        b.f = a * cot_t;
+        b.fa = cot_t;
+        b.fy = -a * dtheta * row->inv_sin2_t[side];
+        return b;
+    }
+    double span = row->span[side];
+    /* Beyond the widest point (outside the vane) the barb keeps its last angle. */
+    double d = fmin(a - r, span), beyond = a - r - d;
+    /* Single precision for the two transcendental calls (the texel loop's
+     * cost): relative error 1e-7, far below a texel. */
+    double phi = row->theta[side] - kappa * d * row->inv_span[side], sin_p = sinf((float)phi);
+    double inv_sin_p = 1.0 / sin_p;
+    double cot_p = copysign(sqrt(fmax(0.0, 1.0 - sin_p * sin_p)), 0.5 * PLM_PI - phi) * inv_sin_p;
+    double log_ratio = row->log_sin_t[side] - logf((float)sin_p);
+    double dphi = dtheta + row->kappa_dr[side] * (span - d);
+    b.f = r * cot_t + row->span_per_kappa[side] * log_ratio + beyond * cot_p;
+    b.fa = cot_p;
+    b.fy = row->dr * cot_t - r * dtheta * row->inv_sin2_t[side] - row->dr / kappa * log_ratio +
+           row->span_per_kappa[side] * (cot_t * dtheta - cot_p * dphi) - beyond * dphi * inv_sin_p * inv_sin_p;
+    return b;
+}
+
+static int in_split_gap(const plm_outline *o, int side, double xi, double psi)
+{
+    const plm_shape *sh = &o->shape;
+    for (int i = 0; i < sh->split_count; ++i) {
+        const plm_split *s = &sh->splits[i];
+        double inner = 1.0 - s->depth;
+        if (s->side != side || xi <= inner)
+            continue;
+        double half_gap = 0.5 * sh->split_gap * (xi - inner) / s->depth;
+        if (fabs(psi - (o->vane_base + s->position * o->vane_length)) < half_gap)
+            return 1;
+    }
+    return 0;
+}
+
+plm_flat_sample plm_outline_sample_row(const plm_outline *o, const plm_outline_row *row, double x)
+{
+    int side = x >= 0.0;
+    double a = fabs(x), y = row->y, t = row->t;
+    barb_rise b = rise(o, row, side, a);
+    plm_flat_sample s;
+    double along = 1.0 - b.fy;
+    s.barb = v2_normalize(v2(side ? along : -along, b.fa));
+    s.barb_origin = y - b.f;
+    s.region = PLM_FLAT_BACKGROUND;
+    double w = row->width[side];
+    double t_origin = (s.barb_origin - o->vane_base) / o->vane_length;
+    if (y >= 0.0 && y <= o->rachis_end && a <= row->r)
+        s.region = PLM_FLAT_RACHIS;
+    else if (t >= 0.0 && t <= 1.0 && a <= w && a >= row->notch[side] && t_origin >= o->shape.plumulaceous &&
+             !in_split_gap(o, side, a / w, s.barb_origin))
+        s.region = PLM_FLAT_VANE;
+    return s;
+}
+
+plm_flat_sample plm_outline_sample(const plm_outline *o, double x, double y)
+{
+    plm_outline_row row;
+    plm_outline_row_at(o, y, &row);
+    return plm_outline_sample_row(o, &row, x);
+}
+
+double plm_outline_mesh_extent(const plm_outline *o, int side, double t)
+{
+    /* The widest outline within one cage row either side, so the smooth limit
+     * surface (which rounds the cage) still covers every vane texel. */
+    const double window = 1.0 / 24.0;
+    double w = 0.0;
+    for (int k = -8; k <= 8; ++k)
+        w = fmax(w, plm_outline_width(o, side, plm_clamp(t + window * k / 8.0, 0.0, 1.0)));
+    double y = o->vane_base + t * o->vane_length;
+    double floor_width = fmax(1.5 * plm_outline_rachis_radius(o, y), 0.03 * o->widest[side]);
+    return fmax(1.01 * w, floor_width);
+}
+
+vec2 plm_outline_uv(const plm_outline *o, double x, double y)
+{
+    return v2(0.5 + x / (2.0 * o->half_extent), (y - o->vane_base) / o->vane_length);
+}
+
+vec2 plm_outline_flat(const plm_outline *o, double u, double v)
+{
+    return v2((u - 0.5) * 2.0 * o->half_extent, o->vane_base + v * o->vane_length);
+}
+
+plm_result plm_outline_init(plm_outline *o, const plm_shape *shape, const char *file, plm_error *err)
+{
+    memset(o, 0, sizeof *o);
+    o->shape = *shape;
+    o->vane_base = shape->calamus_length;
+    o->vane_length = shape->length - shape->calamus_length;
+    o->rachis_end = shape->tip_shape == PLM_TIP_NOTCHED ? shape->length - shape->tip_length * o->vane_length
+                                                        : shape->length;
+    for (int side = 0; side < 2; ++side) {
+        monotone_slopes(&shape->width[side], o->slope[side]);
+        for (int i = 0; i < shape->width[side].count; ++i)
+            o->widest[side] = fmax(o->widest[side], shape->width[side].width[i]);
+    }
+    double extent = 0.0;
+    for (int side = 0; side < 2; ++side)
+        for (int i = 0; i <= 512; ++i)
+            extent = fmax(extent, plm_outline_mesh_extent(o, side, i / 512.0));
+    o->half_extent = 1.01 * extent;
+    /* Barbs must keep moving away from the rachis (1 - F_y > 0), or the
+     * level curves of psi would fold over. */
+    for (int side = 0; side < 2; ++side)
+        for (int i = 0; i <= 64; ++i) {
+            plm_outline_row row;
+            plm_outline_row_at(o, o->vane_base + i / 64.0 * o->vane_length, &row);
+            for (int j = 1; j <= 32; ++j) {
+                if (1.0 - rise(o, &row, side, o->widest[side] * j / 32.0).fy < 0.2) {
+                    plm_json_reader r = {file ? file : "(species)", err};
+                    return plm_json_fail(&r, "shape.barbs", "angle_tip",
+                                         "barb angles change too fast along the rachis for vanes this wide (barbs "
+                                         "would cross); bring angle_base and angle_tip closer or the feather longer");
+                }
+            }
+        }
+    return PLM_OK;
+}

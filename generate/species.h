@@ -1,0 +1,98 @@
+/* A species preset: the biological description of one kind of feather.
+ *
+ * The `shape` block drives the generator (every field, its unit, range,
+ * default and source is listed in the README's "Generating feathers"
+ * section); `pigment` drives the optional pigment image; `optics` belongs to
+ * the renderer and is carried through untouched.
+ *
+ * The feather lies in its own frame: the rachis runs along +y from the base
+ * of the calamus (y = 0) to the tip (y = length), the vanes spread along x
+ * (the right vane at +x, the left at -x), and +z is the dorsal side, toward
+ * which barbules rise (DESIGN 3.1). Lengths are millimetres, angles degrees
+ * in the file and radians in these structs. */
+#ifndef PLUMAGE_GENERATE_SPECIES_H
+#define PLUMAGE_GENERATE_SPECIES_H
+
+#include <cjson/cJSON.h>
+
+#include "common/error.h"
+
+#define PLM_WIDTH_POINTS_MAX 16
+#define PLM_SPLITS_MAX 32
+
+typedef enum plm_tip_shape {
+    PLM_TIP_ROUNDED = 0, /* an elliptical end: width ~ sqrt(1 - tau^2) */
+    PLM_TIP_POINTED = 1, /* a straight taper to the tip */
+    PLM_TIP_NOTCHED = 2  /* each vane rounds off on its own, leaving a notch at the rachis as deep as the tip */
+} plm_tip_shape;
+
+/* Width of one vane against position along the vaned part of the rachis:
+ * control points (t, width) with t in [0, 1] from the vane's base to the tip,
+ * joined by a monotone cubic (smooth, never overshooting below zero). */
+typedef struct plm_width_profile {
+    int count;
+    double t[PLM_WIDTH_POINTS_MAX];
+    double width[PLM_WIDTH_POINTS_MAX]; /* mm, from the rachis centre line to the vane edge */
+} plm_width_profile;
+
+typedef struct plm_split {
+    double position; /* where the split's barb leaves the rachis, fraction of the vaned length */
+    double depth;    /* how far the gap reaches in from the edge, fraction of the vane width */
+    int side;        /* 0 left, 1 right */
+} plm_split;
+
+typedef struct plm_shape {
+    double length;         /* mm, calamus base to tip, along the rachis */
+    double calamus_length; /* mm, bare base before the vanes start */
+    /* rachis */
+    double rachis_base_width, rachis_tip_width; /* mm, diameters */
+    double rachis_taper;                        /* exponent: width = base + (tip - base) * s^taper */
+    double bend_in_plane, bend_out_of_plane;    /* radians the rachis turns between base and tip */
+    double twist;                               /* radians the vane plane turns about the rachis */
+    /* vanes */
+    plm_width_profile width[2]; /* [0] left (-x), [1] right (+x) */
+    double curl;                /* radians: slope of the vane at its edge; > 0 cups the edges ventrally */
+    plm_tip_shape tip_shape;
+    double tip_length; /* fraction of the vaned length over which the tip closes */
+    /* barbs */
+    double barb_angle_base[2], barb_angle_tip[2]; /* per side: radians between barb and rachis (toward the tip) */
+    double barb_curvature;                  /* radians the barb turns toward the tip from rachis to edge */
+    double barb_density;                    /* barbs per cm along the rachis, per side */
+    /* fluffy base: barbs leaving the rachis in the first `plumulaceous` fraction of the vane */
+    double plumulaceous;
+    /* splits: gaps between barbs, reaching in from the vane edge */
+    int split_count;
+    plm_split splits[PLM_SPLITS_MAX];
+    double split_gap; /* mm, width of a split at the vane edge */
+} plm_shape;
+
+/* Pigment variation (the optional second image). */
+typedef struct plm_pigment {
+    int band_count;      /* dark bars across the vane, following the barbs (0 = none) */
+    double band_width;   /* fraction of the band period that is dark */
+    double tip_length;   /* fraction of the vaned length coloured as the tip */
+    double barb_jitter;  /* 0..1: amplitude of per-barb variation */
+    unsigned long long seed;
+} plm_pigment;
+
+typedef struct plm_species {
+    char name[128];
+    plm_shape shape;
+    plm_pigment pigment;
+    cJSON *optics; /* the renderer's block, copied untouched; NULL if absent */
+} plm_species;
+
+/* The defaults of every field (a generic contour feather). */
+void plm_species_default(plm_species *s);
+
+/* Parses and validates a preset. Errors name the file and field path. */
+plm_result plm_species_load(const char *path, plm_species *out, plm_error *err);
+plm_result plm_species_parse(const cJSON *root, const char *file, plm_species *out, plm_error *err);
+
+/* Checks the relations between fields that single ranges cannot express
+ * (tip no wider than base, splits inside the vane, barbs that stay barbs). */
+plm_result plm_species_validate(const plm_species *s, const char *file, plm_error *err);
+
+void plm_species_free(plm_species *s);
+
+#endif

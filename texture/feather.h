@@ -1,0 +1,62 @@
+/* A whole feather from a species, in memory or on disk: the vane and rachis
+ * meshes (generate/) and the feather and pigment textures (texture/).
+ *
+ *   plm_species sp;  plm_feather f;  plm_error err;
+ *   plm_species_load("presets/species/remex.json", &sp, &err);
+ *   plm_feather_options opt = {0};               // zero = defaults
+ *   plm_feather_generate(&sp, &opt, &f, &err);   // f.vane, f.rachis, f.texture, f.pigment
+ *   ...
+ *   plm_feather_free(&f);  plm_species_free(&sp);
+ *
+ * Meshes are in millimetres in the feather frame of generate/species.h
+ * (rachis along +y, dorsal side +z). The rachis is its own closed tube mesh
+ * (all of it is rachis); the feather texture also marks the texels under the
+ * tube as rachis, so the vane alone still shows a shaft. */
+#ifndef PLUMAGE_TEXTURE_FEATHER_H
+#define PLUMAGE_TEXTURE_FEATHER_H
+
+#include "common/image_io.h"
+#include "common/mesh.h"
+#include "generate/outline.h"
+#include "generate/species.h"
+
+#define PLM_FEATHER_DEFAULT_LEVEL 3
+
+typedef struct plm_feather_options {
+    int level;                         /* subdivision level 1..6; 0 = PLM_FEATHER_DEFAULT_LEVEL */
+    int texture_width, texture_height; /* 0 = 1024 */
+    int no_textures;                   /* meshes only */
+    int no_meshes;                     /* textures only */
+    int no_pigment;                    /* skip the pigment image */
+} plm_feather_options;
+
+typedef struct plm_feather {
+    plm_outline outline;
+    plm_mesh vane, rachis;
+    plm_image texture; /* the 3-channel feather texture (texture/texture.h) */
+    plm_image pigment; /* 3 pigment channels, or empty */
+} plm_feather;
+
+plm_result plm_feather_generate(const plm_species *species, const plm_feather_options *options, plm_feather *out,
+                                plm_error *err);
+
+/* Which files plm_feather_write produces. */
+typedef struct plm_feather_files {
+    int obj;     /* also vane.obj and rachis.obj */
+    int no_exr;  /* skip the EXR copies of the textures */
+    int no_png;  /* skip the 16-bit PNG copies */
+} plm_feather_files;
+
+/* Writes into dir (created if missing): vane.ply, rachis.ply, feather.exr and
+ * feather.png, pigment.exr and pigment.png (when present), and feather.json,
+ * a scene for `plumage render`. Each file is written atomically. */
+plm_result plm_feather_write(const plm_feather *f, const plm_species *species, const char *dir,
+                             const plm_feather_files *files, plm_error *err);
+
+/* Writes only the textures (the `plumage texture` command). */
+plm_result plm_feather_write_textures(const plm_feather *f, const char *dir, const plm_feather_files *files,
+                                      plm_error *err);
+
+void plm_feather_free(plm_feather *f);
+
+#endif

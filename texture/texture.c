@@ -1,0 +1,130 @@
+#include "texture/texture.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/fileio.h"
+#include "common/rng.h"
+
+static double smoothstep(double e0, double e1, double x)
+{
+    double t = plm_clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* 1 over the first `width` of each band period, 0 elsewhere, with soft edges. */
+static double band_value(double phase, double width)
+{
+    const double soft = 0.03; /* a few texels of anti-aliasing at typical sizes */
+    phase -= floor(phase);
+    return smoothstep(-soft, soft, phase) * (1.0 - smoothstep(width - soft, width + soft, phase)) +
+           smoothstep(1.0 - soft, 1.0 + soft, phase);
+}
+
+/* The last barb's variation value: neighbouring texels mostly share a barb. */
+typedef struct barb_cache {
+    int64_t barb;
+    int side;
+    float value;
+} barb_cache;
+
+static void pigment_texel(const plm_outline *o, const plm_pigment *pg, const plm_flat_sample *s, int side,
+                          barb_cache *cache, float *out)
+{
+    out[0] = out[1] = out[2] = 0.0f;
+    if (s->region != PLM_FLAT_VANE)
+        return;
+    double t_origin = (s->barb_origin - o->vane_base) / o->vane_length;
+    if (pg->band_count > 0)
+        out[0] = (float)band_value(t_origin * pg->band_count, pg->band_width);
+    if (pg->tip_length > 0.0)
+        out[1] = (float)smoothstep(1.0 - pg->tip_length, 1.0, t_origin);
+    /* One value per barb: barbs are barb_density per cm along the rachis. */
+    int64_t barb = (int64_t)floor((s->barb_origin - o->vane_base) * o->shape.barb_density / 10.0);
+    if (barb != cache->barb || side != cache->side) {
+        uint64_t h = plm_hash64(pg->seed, (uint64_t)barb, (uint64_t)side);
+        cache->barb = barb;
+        cache->side = side;
+        cache->value = (float)(pg->barb_jitter * (double)(h >> 11) * (1.0 / 9007199254740992.0));
+    }
+    out[2] = cache->value;
+}
+
+static plm_result alloc_image(plm_image *img, int width, int height, plm_error *err)
+{
+    img->width = width;
+    img->height = height;
+    img->channels = 3;
+    img->pixels = malloc(sizeof(float) * 3 * (size_t)width * (size_t)height);
+    if (!img->pixels)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d texture", width, height);
+    return PLM_OK;
+}
+
+plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int width, int height,
+                              plm_image *feather, plm_image *pigment, plm_error *err)
+{
+    memset(feather, 0, sizeof *feather);
+    if (pigment)
+        memset(pigment, 0, sizeof *pigment);
+    if (width < 8 || height < 8 || width > 16384 || height > 16384)
+        return plm_fail(err, PLM_ERR_INVALID, "texture size %dx%d is out of range [8, 16384]", width, height);
+    plm_result rc = alloc_image(feather, width, height, err);
+    if (rc == PLM_OK && pigment)
+        rc = alloc_image(pigment, width, height, err);
+    if (rc != PLM_OK) {
+        plm_texture_image_free(feather);
+        return rc;
+    }
+    /* A flat direction (dx, dy) in mm becomes (dx / 2U, dy / Lv) in uv units. */
+    double su = 1.0 / (2.0 * o->half_extent), sv = 1.0 / o->vane_length;
+    barb_cache cache = {INT64_MIN, -1, 0.0f};
+    for (int j = 0; j < height; ++j) {
+        double v = 1.0 - (j + 0.5) / height;
+        plm_outline_row row;
+        plm_outline_row_at(o, plm_outline_flat(o, 0.5, v).y, &row);
+        for (int i = 0; i < width; ++i) {
+            vec2 p = plm_outline_flat(o, (i + 0.5) / width, v);
+            plm_flat_sample s = plm_outline_sample_row(o, &row, p.x);
+            vec2 d = v2_normalize(v2(s.barb.x * su, s.barb.y * sv));
+            float *px = feather->pixels + 3 * ((size_t)j * width + i);
+            px[0] = (float)(0.5 * (d.x + 1.0));
+            px[1] = (float)(0.5 * (d.y + 1.0));
+            px[2] = (float)(0.5 * (double)s.region);
+            if (pigment)
+                pigment_texel(o, pg, &s, p.x >= 0.0, &cache, pigment->pixels + 3 * ((size_t)j * width + i));
+        }
+    }
+    return PLM_OK;
+}
+
+plm_result plm_texture_write(const char *path, const plm_image *img, plm_error *err)
+{
+    char ext[16];
+    plm_path_extension(path, ext, sizeof ext);
+    if (strcmp(ext, "exr") == 0)
+        return plm_image_write(path, img->width, img->height, img->channels, PLM_PIXEL_FLOAT, img->pixels, err);
+    if (strcmp(ext, "png") != 0)
+        return plm_fail(err, PLM_ERR_INVALID, "%s: textures are written as .exr or .png", path);
+    size_t n = (size_t)img->width * img->height * img->channels;
+    uint16_t *words = malloc(n * sizeof *words);
+    if (!words)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory", path);
+    for (size_t i = 0; i < n; ++i)
+        words[i] = (uint16_t)lrint(65535.0 * plm_clamp(img->pixels[i], 0.0, 1.0));
+    plm_result rc = plm_image_write(path, img->width, img->height, img->channels, PLM_PIXEL_UINT16, words, err);
+    free(words);
+    return rc;
+}
+
+plm_flat_region plm_texture_region_of(float channel2)
+{
+    return channel2 < 0.25f ? PLM_FLAT_BACKGROUND : (channel2 < 0.75f ? PLM_FLAT_RACHIS : PLM_FLAT_VANE);
+}
+
+void plm_texture_image_free(plm_image *img)
+{
+    free(img->pixels);
+    memset(img, 0, sizeof *img);
+}
