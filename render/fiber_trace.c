@@ -314,16 +314,22 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
         double X, Y;
         path.pos = ellipse_snap(&cortex, v2(path.pos.x + t * path.dir.x, path.pos.y + t * path.dir.y), &X, &Y);
         on_cortex = 1;
-        vec3 n = ellipse_normal(&cortex, X, Y);
-        double cos_i = fmax(v3_dot(path.dir, n), 0.0), cos_t;
-        double f = fresnel(cos_i, inv_eta, eta2, &cos_t);
+        /* The reflected direction, which the next segment waits for, is taken
+         * with the unnormalised normal g (one division); the unit normal the
+         * Fresnel term and the lobe need is computed beside it. */
+        double gx = X * cortex.inv_a, gy = Y * cortex.inv_b, gg = gx * gx + gy * gy;
+        double dg = path.dir.x * gx + path.dir.y * gy, k = 2.0 * dg / gg;
+        vec3 reflected = v3(path.dir.x - k * gx, path.dir.y - k * gy, path.dir.z);
+        double inv_len = 1.0 / sqrt(gg), cos_t;
+        double cos_i = fmax(dg * inv_len, 0.0), f = fresnel(cos_i, inv_eta, eta2, &cos_t);
         if (f < 1.0) { /* part leaves the cortex: a lobe */
+            vec3 n = v3(gx * inv_len, gy * inv_len, 0.0);
             lobes[count].dir = refract(path.dir, v3_neg(n), cos_i, cos_t, p->eta);
             lobes[count].throughput = path_throughput(p, &path, 1.0 - f);
             ++count;
         }
         path.weight *= f;
-        path.dir = reflect(path.dir, n);
+        path.dir = reflected;
     }
     if (inside)
         *inside = path_throughput(p, &path, 1.0);
