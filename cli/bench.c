@@ -51,6 +51,7 @@ typedef struct bench {
 } bench;
 
 static const bench benches[] = {
+    {"masking", bench_masking, "ns per full barb/barbule masking call over random directions"},
     {"generate", bench_generate, "one flight feather in memory: meshes + 1024x1024 textures, ms and peak memory"},
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
     {"fiber", bench_fiber, "fiber BCSDF: single-thread ns per prepare+eval and prepare+sample, Fig. 7 fibers"},

@@ -11,6 +11,7 @@ int cmd_texture(int argc, char **argv);
 int bench_generate(int argc, char **argv);
 int bench_render(int argc, char **argv);
 int probe_masking(int argc, char **argv);
+int bench_masking(int argc, char **argv);
 int probe_fiber(int argc, char **argv);
 int probe_bcsdf(int argc, char **argv);
 int bench_fiber(int argc, char **argv);

@@ -100,19 +100,48 @@ void plm_masking_barbule(double barbule_eccentricity, double barbule_separation,
 /* The barb cross-section, period 1 along x = b, y = n. Cell j holds barb j
  * (centre (j, 0), semi-axes w and hb), its distal barbule from (j + w, 0) to
  * the ridge (j + 1/2, yc) and the proximal barbule of barb j + 1 from
- * (j + 1 - w, 0) to the same ridge; cell j spans x in [j - w, j + 1 - w). */
-typedef struct barb_scene {
-    double w, hb, yc;
-    double ylo, yhi;    /* the band of y that holds all geometry */
-    vec2 d, u;          /* unit view direction and h axis (d_y, -d_x) */
-    double half_width;  /* the barb's projected half-width along u */
+ * (j + 1 - w, 0) to the same ridge; cell j spans x in [j - w, j + 1 - w).
+ * Period 1 = barb width 2w + two barbule spans l_bb w cos(theta_bb). */
+static plm_barb_geometry barb_geometry(double barb_eccentricity, double barbule_length, double barbule_inclination)
+{
+    plm_barb_geometry g;
+    g.w = 0.5 / (1.0 + barbule_length * cos(barbule_inclination));
+    g.hb = g.w * barb_eccentricity;
+    g.yc = barbule_length * g.w * sin(barbule_inclination);
+    return g;
+}
+
+/* A segment of cell 0 seen from the view: its ends' coordinates along u and
+ * along d (depth: larger is nearer the viewer). Cell j adds j d_y and j d_x. */
+typedef struct view_segment {
+    double s0, s1, inv_ds, depth0, ddepth;
+} view_segment;
+
+/* Everything about one view that the rays of all classes share. */
+typedef struct barb_view {
+    double dx, dy, inv_dy;
+    double ylo, yhi, w;
+    double half_width;     /* the barb's projected half-width along u */
+    double k1, k2, inv_qa; /* barb entry depth: k1 ds + sqrt(k2 ds^2 + inv_qa) for offset ds */
+    view_segment distal, proximal;
     double t_proximal, t_distal;
-} barb_scene;
+} barb_view;
+
+static view_segment view_segment_make(vec2 a, vec2 b, double dx, double dy)
+{
+    view_segment v;
+    v.s0 = a.x * dy - a.y * dx;
+    v.s1 = b.x * dy - b.y * dx;
+    v.inv_ds = v.s1 != v.s0 ? 1.0 / (v.s1 - v.s0) : 0.0;
+    v.depth0 = a.x * dx + a.y * dy;
+    v.ddepth = (b.x * dx + b.y * dy) - v.depth0;
+    return v;
+}
 
 enum { HIT_BARB, HIT_PROXIMAL, HIT_DISTAL };
 
 typedef struct hit {
-    double depth; /* position along d: larger is nearer the viewer */
+    double depth;
     int kind;
 } hit;
 
@@ -128,44 +157,35 @@ typedef struct ray_result {
  * plane get that far. */
 #define MAX_CELLS 128
 
-static int segment_crossing(vec2 a, vec2 b, double s, const barb_scene *sc, double *depth)
+/* floor() without SSE4.1 is a libm call; these arguments are small. */
+static inline double floor_small(double x)
 {
-    double sa = v2_dot(a, sc->u), sb = v2_dot(b, sc->u);
-    if (!((s - sa) * (s - sb) < 0.0))
+    double i = (double)(long long)x;
+    return i > x ? i - 1.0 : i;
+}
+
+/* Adds the crossing of a segment by the ray at offset ds from cell j's origin. */
+static int segment_hit(const view_segment *g, double ds, double cell_depth, int kind, hit *h)
+{
+    if (!((ds - g->s0) * (ds - g->s1) < 0.0))
         return 0; /* misses, or the segment lies along the ray */
-    double f = (s - sa) / (sb - sa);
-    *depth = v2_dot(v2_add(a, v2_scale(v2_sub(b, a), f)), sc->d);
+    h->depth = cell_depth + g->depth0 + (ds - g->s0) * g->inv_ds * g->ddepth;
+    h->kind = kind;
     return 1;
 }
 
-/* Nearest-to-viewer intersection depth of the line {s u + tau d} with barb j. */
-static int barb_crossing(const barb_scene *sc, int j, double s, double *depth)
-{
-    double ds = s - (double)j * sc->u.x; /* offset from barb j's centre, (j, 0) . u */
-    if (!(fabs(ds) < sc->half_width))
-        return 0;
-    /* Local point q = ds u + t d on ((q_x / w)^2 + (q_y / hb)^2 = 1). */
-    double iw2 = 1.0 / (sc->w * sc->w), ih2 = 1.0 / (sc->hb * sc->hb);
-    double qa = sc->d.x * sc->d.x * iw2 + sc->d.y * sc->d.y * ih2;
-    double qb = 2.0 * ds * (sc->u.x * sc->d.x * iw2 + sc->u.y * sc->d.y * ih2);
-    double qc = ds * ds * (sc->u.x * sc->u.x * iw2 + sc->u.y * sc->u.y * ih2) - 1.0;
-    double t = (-qb + plm_safe_sqrt(qb * qb - 4.0 * qa * qc)) / (2.0 * qa);
-    *depth = (double)j * sc->d.x + t;
-    return 1;
-}
-
-/* The crossings of cell j, nearest to the viewer first. */
-static int cell_hits(const barb_scene *sc, int j, double s, hit hits[3])
+/* The crossings of cell j by the ray at offset s, nearest to the viewer first. */
+static int cell_hits(const barb_view *v, int j, double s, hit hits[3])
 {
     int n = 0;
-    double x0 = (double)j;
-    vec2 ridge = v2(x0 + 0.5, sc->yc);
-    if (barb_crossing(sc, j, s, &hits[n].depth))
-        hits[n++].kind = HIT_BARB;
-    if (segment_crossing(v2(x0 + sc->w, 0.0), ridge, s, sc, &hits[n].depth))
-        hits[n++].kind = HIT_DISTAL;
-    if (segment_crossing(v2(x0 + 1.0 - sc->w, 0.0), ridge, s, sc, &hits[n].depth))
-        hits[n++].kind = HIT_PROXIMAL;
+    double ds = s - (double)j * v->dy, cell_depth = (double)j * v->dx;
+    if (fabs(ds) < v->half_width) {
+        hits[0].depth = cell_depth + v->k1 * ds + plm_safe_sqrt(v->k2 * ds * ds + v->inv_qa);
+        hits[0].kind = HIT_BARB;
+        n = 1;
+    }
+    n += segment_hit(&v->distal, ds, cell_depth, HIT_DISTAL, &hits[n]);
+    n += segment_hit(&v->proximal, ds, cell_depth, HIT_PROXIMAL, &hits[n]);
     for (int i = 1; i < n; ++i) /* insertion sort, at most three */
         for (int k = i; k > 0 && hits[k].depth > hits[k - 1].depth; --k) {
             hit tmp = hits[k];
@@ -178,20 +198,21 @@ static int cell_hits(const barb_scene *sc, int j, double s, hit hits[3])
 /* Follows the ray at offset s from the viewer through the periodic scene:
  * each barbule layer it crosses keeps (1 - T) of what reaches it, the first
  * barb keeps the rest, and what leaves the band is transmitted. */
-static ray_result trace_ray(const barb_scene *sc, double s)
+static ray_result trace_ray(const barb_view *v, double s)
 {
     ray_result r = {0.0, 0.0, 0.0, 0.0, 0};
-    /* x and y along the ray: s u + tau d, travelling toward smaller tau. */
-    double tau_top = (sc->yhi + s * sc->d.x) / sc->d.y, tau_bottom = (sc->ylo + s * sc->d.x) / sc->d.y;
-    double tau_in = fmax(tau_top, tau_bottom), tau_out = fmin(tau_top, tau_bottom);
-    double x_in = s * sc->d.y + tau_in * sc->d.x, x_out = s * sc->d.y + tau_out * sc->d.x;
-    int j = (int)floor(x_in + sc->w), j_last = (int)floor(x_out + sc->w);
+    /* The ray is s u + tau d, travelling toward smaller tau; y = tau d_y - s d_x. */
+    double tau_top = (v->yhi + s * v->dx) * v->inv_dy, tau_bottom = (v->ylo + s * v->dx) * v->inv_dy;
+    double tau_in = tau_top > tau_bottom ? tau_top : tau_bottom;
+    double tau_out = tau_top > tau_bottom ? tau_bottom : tau_top;
+    int j = (int)floor_small(s * v->dy + tau_in * v->dx + v->w);
+    int j_last = (int)floor_small(s * v->dy + tau_out * v->dx + v->w);
     int step = j_last >= j ? 1 : -1;
     double throughput = 1.0;
     int last_layer = -1;
     for (int cells = 0; cells < MAX_CELLS; ++cells, j += step) {
         hit hits[3];
-        int n = cell_hits(sc, j, s, hits);
+        int n = cell_hits(v, j, s, hits);
         for (int i = 0; i < n; ++i) {
             if (hits[i].kind == HIT_BARB) {
                 r.barb = throughput;
@@ -199,7 +220,7 @@ static ray_result trace_ray(const barb_scene *sc, double s)
                 return r;
             }
             int proximal = hits[i].kind == HIT_PROXIMAL;
-            double t = proximal ? sc->t_proximal : sc->t_distal;
+            double t = proximal ? v->t_proximal : v->t_distal;
             *(proximal ? &r.proximal : &r.distal) += throughput * (1.0 - t);
             throughput *= t;
             last_layer = hits[i].kind;
@@ -229,11 +250,7 @@ static void sort5(double v[5])
         }
 }
 
-static double wrap(double s, double period)
-{
-    double r = fmod(s, period);
-    return r < 0.0 ? r + period : r;
-}
+static double wrap(double s, double period, double inv_period) { return s - period * floor_small(s * inv_period); }
 
 /* Orders the ranges by h and joins neighbours that continue each other at
  * the same throughput (one visible stretch of barb split by a class
@@ -263,60 +280,82 @@ static void tidy_barb_ranges(plm_barb_masking *out, double thr[])
     out->barb_range_count = m;
 }
 
-void plm_masking_barb(double barb_eccentricity, double barbule_length, double barbule_inclination,
-                      double t_proximal, double t_distal, vec2 d, plm_barb_masking *out)
+static barb_view barb_view_make(const plm_barb_geometry *g, double t_proximal, double t_distal, vec2 d)
 {
-    barb_scene sc;
+    barb_view v;
     d = unit_direction(d);
     /* Views within 1e-7 of the vane plane are taken as that close to it, on
      * their own side: exactly in the plane the projected period vanishes. */
     const double min_dy = 1e-7;
     if (fabs(d.y) < min_dy)
         d = unit_direction(v2(d.x, d.y < 0.0 ? -min_dy : min_dy));
-    sc.d = d;
-    sc.u = v2(d.y, -d.x);
-    /* Period 1 = barb width 2w + two barbule spans l w cos(theta). */
-    double c = cos(barbule_inclination);
-    sc.w = 0.5 / (1.0 + barbule_length * c);
-    sc.hb = sc.w * barb_eccentricity;
-    sc.yc = barbule_length * sc.w * sin(barbule_inclination);
-    sc.ylo = fmin(-sc.hb, sc.yc);
-    sc.yhi = fmax(sc.hb, sc.yc);
-    sc.half_width = sqrt(plm_sqr(sc.w * d.y) + plm_sqr(sc.hb * d.x));
-    sc.t_proximal = plm_clamp(t_proximal, 0.0, 1.0);
-    sc.t_distal = plm_clamp(t_distal, 0.0, 1.0);
+    v.dx = d.x;
+    v.dy = d.y;
+    v.inv_dy = 1.0 / d.y;
+    v.w = g->w;
+    v.ylo = g->yc < -g->hb ? g->yc : -g->hb;
+    v.yhi = g->yc > g->hb ? g->yc : g->hb;
+    v.half_width = sqrt(plm_sqr(g->w * d.y) + plm_sqr(g->hb * d.x));
+    /* Barb entry: q = ds u + t d on (q_x / w)^2 + (q_y / hb)^2 = 1, with
+     * u = (d_y, -d_x); the larger root t is the side facing the viewer. */
+    double iw2 = 1.0 / (g->w * g->w), ih2 = 1.0 / (g->hb * g->hb);
+    double qa = d.x * d.x * iw2 + d.y * d.y * ih2;
+    double qb = 2.0 * (d.y * d.x * iw2 - d.x * d.y * ih2); /* times ds */
+    double qc = d.y * d.y * iw2 + d.x * d.x * ih2;          /* times ds^2, minus 1 */
+    v.inv_qa = 1.0 / qa;
+    v.k1 = -0.5 * qb * v.inv_qa;
+    v.k2 = (qb * qb - 4.0 * qa * qc) * 0.25 * v.inv_qa * v.inv_qa;
+    vec2 ridge = v2(0.5, g->yc);
+    v.distal = view_segment_make(v2(g->w, 0.0), ridge, d.x, d.y);
+    v.proximal = view_segment_make(v2(1.0 - g->w, 0.0), ridge, d.x, d.y);
+    v.t_proximal = plm_clamp(t_proximal, 0.0, 1.0);
+    v.t_distal = plm_clamp(t_distal, 0.0, 1.0);
+    return v;
+}
 
+static void barb_eval(const plm_barb_geometry *g, double t_proximal, double t_distal, vec2 d, plm_barb_masking *out)
+{
+    barb_view v = barb_view_make(g, t_proximal, t_distal, d);
     /* Visibility changes only where a ray grazes a barb's silhouette (its
      * tangent points, Eq. 5) or passes a segment end (the roots and the ridge
      * corner); between those, every ray of the period meets the same things in
      * the same order, so one ray per class decides the class. */
-    double period = fabs(d.y);
-    double b[5] = {wrap(-sc.half_width, period), wrap(sc.half_width, period), wrap(sc.w * d.y, period),
-                   wrap((1.0 - sc.w) * d.y, period), wrap(0.5 * d.y - sc.yc * d.x, period)};
+    double period = fabs(v.dy), inv_period = 1.0 / period;
+    double b[5] = {wrap(-v.half_width, period, inv_period), wrap(v.half_width, period, inv_period),
+                   wrap(v.distal.s0, period, inv_period), wrap(v.proximal.s0, period, inv_period),
+                   wrap(v.distal.s1, period, inv_period)};
     sort5(b);
 
     out->w_barb = out->w_proximal = out->w_distal = out->w_transmission = 0.0;
     out->barb_range_count = 0;
     double thr[PLM_MASKING_MAX_BARB_RANGES];
+    double inv_half_width = 1.0 / v.half_width;
     for (int i = 0; i < 5; ++i) {
         double s0 = b[i], s1 = i < 4 ? b[i + 1] : b[0] + period;
-        double len = (s1 - s0) / period;
+        double len = (s1 - s0) * inv_period;
         if (!(len > 1e-13))
             continue;
-        ray_result r = trace_ray(&sc, 0.5 * (s0 + s1));
+        ray_result r = trace_ray(&v, 0.5 * (s0 + s1));
         out->w_proximal += len * r.proximal;
         out->w_distal += len * r.distal;
         out->w_transmission += len * r.transmission;
         if (r.barb > 0.0) {
             out->w_barb += len * r.barb;
-            double centre = (double)r.barb_cell * d.y; /* (j, 0) . u */
-            double h0 = plm_clamp((s0 - centre) / sc.half_width, -1.0, 1.0);
-            double h1 = plm_clamp((s1 - centre) / sc.half_width, -1.0, 1.0);
+            double centre = (double)r.barb_cell * v.dy; /* (j, 0) . u */
+            double h0 = plm_clamp((s0 - centre) * inv_half_width, -1.0, 1.0);
+            double h1 = plm_clamp((s1 - centre) * inv_half_width, -1.0, 1.0);
             thr[out->barb_range_count] = r.barb;
             out->barb[out->barb_range_count++] = (plm_h_range){h0, h1, len * r.barb};
         }
     }
     tidy_barb_ranges(out, thr);
+}
+
+void plm_masking_barb(double barb_eccentricity, double barbule_length, double barbule_inclination,
+                      double t_proximal, double t_distal, vec2 d, plm_barb_masking *out)
+{
+    plm_barb_geometry g = barb_geometry(barb_eccentricity, barbule_length, barbule_inclination);
+    barb_eval(&g, t_proximal, t_distal, d, out);
 }
 
 /* ---------------------------------------------------------------- full masking */
@@ -334,18 +373,23 @@ void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *
     proximal->e3 = r2;
 }
 
-void plm_masking_eval(const plm_masking_params *p, vec3 wo, plm_masking *out)
+void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model)
 {
-    plm_barbule_frame fp, fd;
-    plm_masking_barbule_frames(p, &fp, &fd);
+    model->barbule_eccentricity = p->barbule_eccentricity;
+    model->barbule_separation = p->barbule_separation;
+    plm_masking_barbule_frames(p, &model->proximal, &model->distal);
+    model->barb = barb_geometry(p->barb_eccentricity, p->barbule_length, p->barbule_inclination);
+}
+
+void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo, plm_masking *out)
+{
     plm_barbule_masking mp, md;
-    plm_masking_barbule(p->barbule_eccentricity, p->barbule_separation, v2(v3_dot(wo, fp.e2), v3_dot(wo, fp.e3)),
-                        &mp);
-    plm_masking_barbule(p->barbule_eccentricity, p->barbule_separation, v2(v3_dot(wo, fd.e2), v3_dot(wo, fd.e3)),
-                        &md);
+    plm_masking_barbule(model->barbule_eccentricity, model->barbule_separation,
+                        v2(v3_dot(wo, model->proximal.e2), v3_dot(wo, model->proximal.e3)), &mp);
+    plm_masking_barbule(model->barbule_eccentricity, model->barbule_separation,
+                        v2(v3_dot(wo, model->distal.e2), v3_dot(wo, model->distal.e3)), &md);
     plm_barb_masking mb;
-    plm_masking_barb(p->barb_eccentricity, p->barbule_length, p->barbule_inclination, mp.transmittance,
-                     md.transmittance, v2(wo.x, wo.y), &mb);
+    barb_eval(&model->barb, mp.transmittance, md.transmittance, v2(wo.x, wo.y), &mb);
     out->w_barb = mb.w_barb;
     out->w_proximal = mb.w_proximal;
     out->w_distal = mb.w_distal;
@@ -355,4 +399,11 @@ void plm_masking_eval(const plm_masking_params *p, vec3 wo, plm_masking *out)
     out->barb_range_count = mb.barb_range_count;
     for (int i = 0; i < mb.barb_range_count; ++i)
         out->barb[i] = mb.barb[i];
+}
+
+void plm_masking_eval(const plm_masking_params *p, vec3 wo, plm_masking *out)
+{
+    plm_masking_model model;
+    plm_masking_prepare(p, &model);
+    plm_masking_eval_prepared(&model, wo, out);
 }

@@ -59,6 +59,22 @@ typedef struct plm_masking {
  * normalised). Constant time, no allocation. */
 void plm_masking_eval(const plm_masking_params *p, vec3 wo_barb_frame, plm_masking *out);
 
+/* The same with the view-independent work (frames, trigonometry) done once
+ * per parameter set, for callers that evaluate many directions (a BSDF). */
+typedef struct plm_barb_geometry {
+    double w, hb, yc; /* barb semi-axes along b and n; ridge height (cell 0's ridge is (1/2, yc)) */
+} plm_barb_geometry;
+typedef struct plm_barbule_frame {
+    vec3 axis, e2, e3;
+} plm_barbule_frame;
+typedef struct plm_masking_model {
+    double barbule_eccentricity, barbule_separation;
+    plm_barbule_frame proximal, distal;
+    plm_barb_geometry barb;
+} plm_masking_model;
+void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model);
+void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo_barb_frame, plm_masking *out);
+
 /* ---- the two levels on their own (used by the full masking, the probe and tests) ---- */
 
 typedef struct plm_barbule_masking {
@@ -84,10 +100,6 @@ void plm_masking_barb(double barb_eccentricity, double barbule_length, double ba
 
 /* The fiber frame of one barbule set in the barb frame (DESIGN 3.1): its axis,
  * e2 = r1 (across the barbules, within their row), e3 = r2 (the row normal). */
-typedef struct plm_barbule_frame {
-    vec3 axis, e2, e3;
-} plm_barbule_frame;
-
 void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *proximal,
                                 plm_barbule_frame *distal);
 

@@ -1,0 +1,90 @@
+/* plumage bench masking: single-thread nanoseconds per full masking call
+ * (plm_masking_eval) over random view directions, for three parameter sets. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "cli/bench.h"
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "common/rng.h"
+#include "render/masking.h"
+
+#define DIRECTIONS 4096
+
+typedef struct bench_ctx {
+    plm_masking_params params;
+    plm_masking_model model;
+    vec3 dirs[DIRECTIONS];
+    double sink; /* keeps the calls from being optimised away */
+} bench_ctx;
+
+static void body(void *arg, long calls)
+{
+    bench_ctx *c = arg;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i) {
+        plm_masking m;
+        plm_masking_eval(&c->params, c->dirs[i & (DIRECTIONS - 1)], &m);
+        acc += m.w_barb + m.barb[0].hmin;
+    }
+    c->sink += acc;
+}
+
+/* The same through the prepared model (frames and trigonometry once). */
+static void body_prepared(void *arg, long calls)
+{
+    bench_ctx *c = arg;
+    double acc = 0.0;
+    for (long i = 0; i < calls; ++i) {
+        plm_masking m;
+        plm_masking_eval_prepared(&c->model, c->dirs[i & (DIRECTIONS - 1)], &m);
+        acc += m.w_barb + m.barb[0].hmin;
+    }
+    c->sink += acc;
+}
+
+int bench_masking(int argc, char **argv)
+{
+    int runs = 9, calls = 2000000;
+    plm_option opts[] = {
+        {"--runs", PLM_OPT_INT, &runs, 0, 1, 64, NULL, "N", "timed runs; the median is reported (default 9)", 0},
+        {"--calls", PLM_OPT_INT, &calls, 0, 1000, 1e9, NULL, "N", "calls per run (default 2000000)", 0},
+    };
+    plm_command_help help = {"plumage bench masking [--runs N] [--calls N]",
+                             "Nanoseconds per full masking call (both barbule levels and the barb level) over "
+                             "random view directions\nuniform on the sphere, single thread, median of the runs."};
+    int rc = plm_parse_options(&help, argc, argv, 1, opts, 2, NULL, 0, NULL);
+    if (rc)
+        return rc == 1 ? 0 : 2;
+    bench_ctx *c = calloc(1, sizeof *c);
+    if (!c) {
+        fprintf(stderr, "error: out of memory\n");
+        return 1;
+    }
+    plm_rng rng;
+    plm_rng_seed(&rng, 2024, 3);
+    for (int i = 0; i < DIRECTIONS; ++i) {
+        double y = 2.0 * plm_rng_uniform(&rng) - 1.0, phi = PLM_TWO_PI * plm_rng_uniform(&rng);
+        double r = sqrt(1.0 - y * y);
+        c->dirs[i] = v3(r * cos(phi), y, r * sin(phi));
+    }
+    /* DESIGN 4 defaults, then the paper's two Fig. 9 sets. */
+    const struct { const char *name; double e_b, l, theta_deg; } sets[] = {
+        {"defaults (e_b 1, l_bb 1, theta_bb 0)", 1.0, 1.0, 0.0},
+        {"Fig. 9 set 1 (e_b 3, l_bb 1, theta_bb 0)", 3.0, 1.0, 0.0},
+        {"Fig. 9 set 2 (e_b 1, l_bb 3, theta_bb 45)", 1.0, 3.0, 45.0},
+    };
+    printf("masking: single thread, %d random directions, median of %d runs of %d calls\n", DIRECTIONS, runs, calls);
+    for (size_t k = 0; k < sizeof sets / sizeof sets[0]; ++k) {
+        plm_masking_params_default(&c->params);
+        c->params.barb_eccentricity = sets[k].e_b;
+        c->params.barbule_length = sets[k].l;
+        c->params.barbule_inclination = plm_radians(sets[k].theta_deg);
+        plm_masking_prepare(&c->params, &c->model);
+        double ns = plm_bench_ns_per_call(body, c, calls, runs);
+        double ns_prepared = plm_bench_ns_per_call(body_prepared, c, calls, runs);
+        printf("  %-44s %8.1f ns per plm_masking_eval, %8.1f ns prepared\n", sets[k].name, ns, ns_prepared);
+    }
+    free(c);
+    return 0;
+}
