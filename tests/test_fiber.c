@@ -304,6 +304,32 @@ static void black_medulla_only_removes_energy(void **state)
     assert_true(shortened > 400); /* the medulla is hit often enough for the test to mean something */
 }
 
+/* Head-on (theta = 0, h = 0) light reaches a concentric medulla of radius
+ * 0.6 after a 0.4 segment and, after the bounce, needs at least 0.4 more to
+ * leave: lobe 1 is attenuated over at least 0.8, and over less if the segment
+ * ending on the medulla were not attenuated. */
+static void segments_to_the_medulla_are_attenuated(void **state)
+{
+    (void)state;
+    plm_fiber_params clear = fiber_variant(2, 1.0, rgb_gray(1.0));
+    plm_fiber_params absorbing = clear;
+    absorbing.sigma_a = rgb_gray(0.5);
+    double shortest = INFINITY;
+    for (int i = 0; i < 2000; ++i) {
+        plm_fiber_lobe a[2], b[2];
+        plm_rng ra, rb;
+        plm_rng_seed(&ra, 17, (uint64_t)i);
+        plm_rng_seed(&rb, 17, (uint64_t)i);
+        vec3 wo = v3(1.0, 0.0, 0.0);
+        assert_int_equal(plm_fiber_trace_n(&clear, wo, 0.0, &ra, a, 2, NULL), 2);
+        assert_int_equal(plm_fiber_trace_n(&absorbing, wo, 0.0, &rb, b, 2, NULL), 2);
+        double length = -log(b[1].throughput.r / a[1].throughput.r) / 0.5;
+        shortest = fmin(shortest, length);
+    }
+    assert_true(shortest >= 0.8 - 1e-9);
+    assert_true(shortest < 0.85); /* nearly radial bounces occur */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -314,6 +340,7 @@ int main(void)
         cmocka_unit_test(five_lobes_hold_the_energy),
         cmocka_unit_test(absorption_only_darkens),
         cmocka_unit_test(black_medulla_only_removes_energy),
+        cmocka_unit_test(segments_to_the_medulla_are_attenuated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
