@@ -1,7 +1,10 @@
 /* Materials behind the plm_bsdf interface: the diffuse BSDF here, the feather
  * (render/feather_bsdf.c) dispatched to by type. */
 #include "render/bsdf.h"
+#include "render/feather_bsdf.h"
 #include "render/sampling.h"
+
+_Static_assert(sizeof(plm_feather_bsdf) <= PLM_BSDF_STATE_BYTES, "plm_bsdf.state must hold a feather BSDF");
 
 static rgb diffuse_eval(const plm_bsdf *b, vec3 wi)
 {
@@ -40,16 +43,44 @@ void plm_diffuse_bsdf(const plm_hit *hit, vec3 wo, rgb albedo, plm_bsdf *out)
     out->albedo = albedo;
 }
 
+static const plm_feather_bsdf *feather_state(const plm_bsdf *b) { return (const plm_feather_bsdf *)b->state; }
+static rgb feather_eval(const plm_bsdf *b, vec3 wi) { return plm_feather_eval(feather_state(b), wi); }
+static double feather_pdf(const plm_bsdf *b, vec3 wi) { return plm_feather_pdf(feather_state(b), wi); }
+static int feather_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
+{
+    return plm_feather_sample(feather_state(b), u0, u1, u2, &s->wi, &s->pdf, &s->weight);
+}
+
+static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_sample};
+
+/* The barb frame at a feather hit, if it lies on the vane (the texture says
+ * where; background texels never get here: the Embree filters drop them). */
+static int vane_frame(const plm_hit *hit, frame *barb)
+{
+    const plm_material *m = hit->material;
+    if (plm_feather_texture_region(&m->texture, hit->uv) != PLM_REGION_VANE)
+        return 0;
+    vec2 dir = plm_feather_texture_direction(&m->texture, hit->uv);
+    return plm_feather_barb_frame(hit->n, hit->dpdu, hit->dpdv, dir, barb);
+}
+
 double plm_material_transmission(const plm_hit *hit, vec3 w)
 {
-    (void)w;
     const plm_material *m = hit->material;
-    return m->type == PLM_MATERIAL_DIFFUSE ? m->transmission : 0.0;
+    frame barb;
+    if (m->type == PLM_MATERIAL_DIFFUSE)
+        return m->transmission;
+    return vane_frame(hit, &barb) ? plm_feather_transmission(m->feather, &barb, w) : 0.0;
 }
 
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
 {
-    (void)rng;
     const plm_material *m = hit->material;
+    frame barb;
+    /* Diffuse materials, and a feather's rachis: the material's reflectance. */
     plm_diffuse_bsdf(hit, wo, rgb_mul(m->reflectance, hit->tint), out);
+    if (m->type == PLM_MATERIAL_FEATHER && vane_frame(hit, &barb)) {
+        plm_feather_prepare(m->feather, &barb, wo, hit->tint, rng, (plm_feather_bsdf *)out->state);
+        out->ops = &feather_ops;
+    }
 }

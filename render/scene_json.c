@@ -7,6 +7,7 @@
 
 #include "common/json.h"
 #include "common/rng.h"
+#include "render/feather_bsdf.h"
 #include "render/scene.h"
 
 #define MAX_INCLUDE_DEPTH 8
@@ -240,16 +241,139 @@ static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const ch
     return rc == PLM_OK ? plm_shape_sphere(radius, rings, m, r->err) : rc;
 }
 
+/* Two numbers [a, b], each in [lo, hi]. */
+static plm_result read_pair(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key, double lo,
+                            double hi, double *a, double *b)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!item)
+        return PLM_OK;
+    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 2 || !cJSON_IsNumber(item->child) ||
+        !cJSON_IsNumber(item->child->next) || !(item->child->valuedouble >= lo && item->child->valuedouble <= hi) ||
+        !(item->child->next->valuedouble >= lo && item->child->next->valuedouble <= hi))
+        return plm_json_fail(r, path, key, "expected 2 numbers, each in [%g, %g]", lo, hi);
+    *a = item->child->valuedouble;
+    *b = item->child->next->valuedouble;
+    return PLM_OK;
+}
+
+/* A fiber block (DESIGN 3.3; angles in degrees); absent fields keep p's values. */
+static plm_result read_fiber(const plm_json_reader *r, const cJSON *parent, const char *parent_path,
+                             const char *key, plm_fiber_params *p)
+{
+    static const char *const keys[] = {"eccentricity", "eta", "sigma_a", "beta_m", "beta_n", "medulla_axes",
+                                       "medulla_centre", "medulla_reflectance", "lobes", NULL};
+    const cJSON *obj = cJSON_GetObjectItemCaseSensitive(parent, key);
+    if (!obj)
+        return PLM_OK;
+    char path[300];
+    snprintf(path, sizeof path, "%s.%s", parent_path, key);
+    double beta_m = plm_degrees(p->beta_m), beta_n = plm_degrees(p->beta_n);
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "eccentricity", p->eccentricity, 0.01, 100.0, &p->eccentricity);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "eta", p->eta, 1.0, 4.0, &p->eta);
+    if (rc == PLM_OK)
+        rc = plm_json_rgb(r, obj, path, "sigma_a", p->sigma_a, 0.0, 1e4, &p->sigma_a);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "beta_m", beta_m, 0.5, 90.0, &beta_m);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "beta_n", beta_n, 0.5, 90.0, &beta_n);
+    if (rc == PLM_OK)
+        rc = read_pair(r, obj, path, "medulla_axes", 0.0, 100.0, &p->medulla_a, &p->medulla_b);
+    if (rc == PLM_OK)
+        rc = read_pair(r, obj, path, "medulla_centre", -100.0, 100.0, &p->medulla_ca, &p->medulla_cb);
+    if (rc == PLM_OK)
+        rc = plm_json_rgb(r, obj, path, "medulla_reflectance", p->medulla_reflectance, 0.0, 1.0,
+                          &p->medulla_reflectance);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, path, "lobes", p->lobes, 1, PLM_FIBER_SET_MAX_LOBES, &p->lobes);
+    if (rc != PLM_OK)
+        return rc;
+    p->beta_m = plm_radians(beta_m);
+    p->beta_n = plm_radians(beta_n);
+    /* What the field ranges cannot say: a medulla must lie inside the cortex. */
+    if ((rc = plm_fiber_params_validate(p, r->err)) != PLM_OK)
+        plm_error_prefix(r->err, "%s: %s: ", r->file, path);
+    return rc;
+}
+
+static plm_result read_masking(const plm_json_reader *r, const cJSON *parent, const char *parent_path,
+                               plm_masking_params *m)
+{
+    static const char *const keys[] = {"barb_eccentricity", "barbule_eccentricity", "barbule_length",
+                                       "barbule_separation", "barbule_rotation", "barbule_inclination", NULL};
+    const cJSON *obj = cJSON_GetObjectItemCaseSensitive(parent, "masking");
+    if (!obj)
+        return PLM_OK;
+    char path[300];
+    snprintf(path, sizeof path, "%s.masking", parent_path);
+    double rotation = plm_degrees(m->barbule_rotation), inclination = plm_degrees(m->barbule_inclination);
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "barb_eccentricity", m->barb_eccentricity, 1e-3, 20.0,
+                             &m->barb_eccentricity);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "barbule_eccentricity", m->barbule_eccentricity, 1e-3, 20.0,
+                             &m->barbule_eccentricity);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "barbule_length", m->barbule_length, 1e-3, 100.0, &m->barbule_length);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "barbule_separation", m->barbule_separation, 0.0, 100.0,
+                             &m->barbule_separation);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "barbule_rotation", rotation, 0.0, 90.0, &rotation);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "barbule_inclination", inclination, 0.0, 89.0, &inclination);
+    if (rc != PLM_OK)
+        return rc;
+    m->barbule_rotation = plm_radians(rotation);
+    m->barbule_inclination = plm_radians(inclination);
+    if ((rc = plm_masking_params_validate(m, r->err)) != PLM_OK)
+        plm_error_prefix(r->err, "%s: %s: ", r->file, path);
+    return rc;
+}
+
+static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
+{
+    static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking", NULL};
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = plm_json_rgb(r, obj, path, "rachis_reflectance", rgb_make(0.8, 0.75, 0.65), 0.0, 1.0, &m->reflectance);
+    if (rc != PLM_OK)
+        return rc;
+    m->type = PLM_MATERIAL_FEATHER;
+    m->feather = malloc(sizeof *m->feather);
+    if (!m->feather)
+        return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+    plm_feather_params_default(m->feather);
+    rc = read_fiber(r, obj, path, "barb", &m->feather->barb);
+    if (rc == PLM_OK)
+        rc = read_fiber(r, obj, path, "barbule", &m->feather->barbule);
+    if (rc == PLM_OK)
+        rc = read_masking(r, obj, path, &m->feather->masking);
+    char texture[PLM_PATH_MAX];
+    if (rc == PLM_OK)
+        rc = read_path(r, obj, path, "texture", 1, texture);
+    if (rc == PLM_OK && (rc = plm_feather_texture_read(texture, &m->texture, r->err)) != PLM_OK)
+        plm_error_prefix(r->err, "%s: %s.texture: ", r->file, path);
+    return rc;
+}
+
 static plm_result read_material(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
-    static const char *const types[] = {"diffuse", NULL};
+    static const char *const types[] = {"diffuse", "feather", NULL};
     static const char *const diffuse_keys[] = {"type", "reflectance", "transmission", "mask", NULL};
     int type = 0;
     if (!cJSON_IsObject(obj))
         return plm_json_fail(r, path, NULL, "expected an object");
     plm_result rc = plm_json_enum(r, obj, path, "type", types, 0, &type);
-    if (rc == PLM_OK)
-        rc = plm_json_check_object(r, obj, path, diffuse_keys);
+    if (rc != PLM_OK)
+        return rc;
+    if (type == 1)
+        return read_feather(r, obj, path, m);
+    rc = plm_json_check_object(r, obj, path, diffuse_keys);
     if (rc == PLM_OK)
         rc = plm_json_rgb(r, obj, path, "reflectance", rgb_gray(0.5), 0.0, 1.0, &m->reflectance);
     if (rc == PLM_OK)

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "render/render.h"
+#include "test_render_stats.h"
 
 /* ---------- scene building ---------- */
 
@@ -78,41 +79,6 @@ static void look(plm_scene *s, vec3 from, vec3 at, vec3 up, double fov, int widt
     s->film.width = width;
     s->film.height = height;
     s->film.spp = spp;
-}
-
-/* ---------- statistics ---------- */
-
-typedef struct estimate { double mean, se; } estimate;
-
-/* Mean radiance (channel mean) over the film: n independent samples, each
- * from a uniformly random film position, so the standard error is honest. */
-static estimate film_mean(const plm_world *w, plm_estimator est, int max_depth, long n, uint64_t seed)
-{
-    double sum = 0.0, sum2 = 0.0;
-    for (long i = 0; i < n; ++i) {
-        plm_rng rng;
-        plm_rng_seed(&rng, plm_hash64(seed, (uint64_t)i, 99), 3);
-        double x = plm_rng_uniform(&rng) * w->camera.width, y = plm_rng_uniform(&rng) * w->camera.height;
-        vec3 o, d;
-        plm_camera_ray(&w->camera, x, y, 0.5, 0.5, &o, &d);
-        long long rays = 0;
-        rgb l = plm_path_radiance(w, o, d, max_depth, est, &rng, &rays);
-        assert_true(rgb_is_finite(l));
-        double v = rgb_mean(l);
-        sum += v;
-        sum2 += v * v;
-    }
-    estimate e;
-    e.mean = sum / n;
-    e.se = sqrt(fmax(sum2 / n - e.mean * e.mean, 0.0) / n);
-    return e;
-}
-
-static void assert_agree(estimate a, estimate b, double z_max)
-{
-    double z = fabs(a.mean - b.mean) / sqrt(a.se * a.se + b.se * b.se + 1e-30);
-    if (z > z_max)
-        fail_msg("estimates disagree: %.6f +- %.6f vs %.6f +- %.6f (z = %.2f)", a.mean, a.se, b.mean, b.se, z);
 }
 
 static double film_channel_mean(const plm_film *f, int c)

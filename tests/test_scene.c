@@ -14,6 +14,7 @@
 
 #include "common/fileio.h"
 #include "common/image_io.h"
+#include "render/feather_bsdf.h"
 #include "render/scene.h"
 
 static char dir[256];
@@ -137,6 +138,45 @@ static void includes_resolve_relative_paths(void **state)
     plm_scene_free(&s);
 }
 
+/* A feather material: every field read, degrees converted, defaults kept where absent. */
+static void feather_material_fields(void **state)
+{
+    (void)state;
+    write_file("feather/material.json",
+               "{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"texture.exr\",\n"
+               "  \"rachis_reflectance\": [0.2, 0.3, 0.4],\n"
+               "  \"barb\": {\"eccentricity\": 1.6, \"eta\": 1.53, \"sigma_a\": [1, 2, 3], \"beta_m\": 10,\n"
+               "           \"beta_n\": 20, \"medulla_axes\": [0.5, 0.4], \"medulla_centre\": [-0.1, 0.1],\n"
+               "           \"medulla_reflectance\": [0.1, 0.2, 0.9], \"lobes\": 7},\n"
+               "  \"barbule\": {\"eccentricity\": 2},\n"
+               "  \"masking\": {\"barb_eccentricity\": 3, \"barbule_eccentricity\": 1.5, \"barbule_length\": 2,\n"
+               "              \"barbule_separation\": 0.3, \"barbule_rotation\": 40, \"barbule_inclination\": 30}}}}");
+    plm_scene s;
+    plm_error err;
+    if (load("feather/material.json", &s, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    const plm_material *m = &s.materials[0];
+    assert_int_equal(m->type, PLM_MATERIAL_FEATHER);
+    assert_float_equal(m->reflectance.b, 0.4, 0);
+    const plm_feather_params *p = m->feather;
+    assert_float_equal(p->barb.eccentricity, 1.6, 0);
+    assert_float_equal(p->barb.sigma_a.g, 2.0, 0);
+    assert_float_equal(p->barb.beta_m, plm_radians(10.0), 1e-15);
+    assert_float_equal(p->barb.beta_n, plm_radians(20.0), 1e-15);
+    assert_float_equal(p->barb.medulla_b, 0.4, 0);
+    assert_float_equal(p->barb.medulla_ca, -0.1, 0);
+    assert_int_equal(p->barb.lobes, 7);
+    assert_float_equal(p->barbule.eccentricity, 2.0, 0);
+    plm_feather_params def;
+    plm_feather_params_default(&def);
+    assert_float_equal(p->barbule.eta, def.barbule.eta, 0);
+    assert_float_equal(p->masking.barbule_rotation, plm_radians(40.0), 1e-15);
+    assert_float_equal(p->masking.barbule_inclination, plm_radians(30.0), 1e-15);
+    assert_float_equal(p->masking.barbule_separation, 0.3, 0);
+    assert_int_equal(m->texture.width, 4);
+    plm_scene_free(&s);
+}
+
 /* Each bad file must fail with a message holding every listed fragment. */
 static void expect_error(const char *text, const char *const *fragments)
 {
@@ -183,6 +223,18 @@ static void errors_name_file_field_and_allowed_values(void **state)
     expect_error("{\"cameras\": {}}", (const char *const[]){"cameras", "unknown field", "include", NULL});
     expect_error("{\"camera\": {\"position\": [0, 0, 0], \"look_at\": [0, 0, 0]}}",
                  (const char *const[]){"camera.look_at", "must differ", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\"}}}", (const char *const[]){"materials.f.texture", "required", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"feather/texture.exr\","
+                 " \"barb\": {\"medulla_axes\": [0.9, 0.9], \"medulla_centre\": [0.5, 0]}}}}",
+                 (const char *const[]){"bad.json", "materials.f.barb", "pokes out", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"barbule\": {\"lobes\": 40}}}}",
+                 (const char *const[]){"materials.f.barbule.lobes", "[1, 32]", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"masking\": {\"barbule_rotation\": 100}}}}",
+                 (const char *const[]){"materials.f.masking.barbule_rotation", "[0, 90]", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"barb\": {\"beta\": 3}}}}",
+                 (const char *const[]){"materials.f.barb.beta", "unknown field", "beta_m", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"reflectance\": [1, 1, 1]}}}",
+                 (const char *const[]){"materials.f.reflectance", "unknown field", "rachis_reflectance", NULL});
     write_file("cycle.json", "{\"include\": \"cycle.json\"}");
     expect_error("{\"include\": \"cycle.json\"}", (const char *const[]){"cycle", "nested", NULL});
 }
@@ -192,6 +244,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(defaults_when_fields_are_absent),
         cmocka_unit_test(includes_resolve_relative_paths),
+        cmocka_unit_test(feather_material_fields),
         cmocka_unit_test(errors_name_file_field_and_allowed_values),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

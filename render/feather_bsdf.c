@@ -1,0 +1,156 @@
+#include "render/feather_bsdf.h"
+
+void plm_feather_params_default(plm_feather_params *p)
+{
+    plm_fiber_params_default(&p->barb);
+    plm_fiber_params_default(&p->barbule);
+    p->barb.sigma_a = p->barbule.sigma_a = rgb_make(0.133, 1.967, 2.1); /* paper Fig. 7 */
+    p->barb.medulla_a = p->barb.medulla_b = 0.6;
+    plm_masking_params_default(&p->masking);
+}
+
+plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err)
+{
+    plm_result rc = plm_fiber_params_validate(&p->barb, err);
+    if (rc != PLM_OK) {
+        plm_error_prefix(err, "barb: ");
+        return rc;
+    }
+    rc = plm_fiber_params_validate(&p->barbule, err);
+    if (rc != PLM_OK) {
+        plm_error_prefix(err, "barbule: ");
+        return rc;
+    }
+    if (p->barb.lobes > PLM_FIBER_SET_MAX_LOBES || p->barbule.lobes > PLM_FIBER_SET_MAX_LOBES)
+        return plm_fail(err, PLM_ERR_INVALID, "lobes: at most %d when rendering", PLM_FIBER_SET_MAX_LOBES);
+    rc = plm_masking_params_validate(&p->masking, err);
+    if (rc != PLM_OK)
+        plm_error_prefix(err, "masking: ");
+    return rc;
+}
+
+int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, frame *out)
+{
+    vec3 t = v3_add(v3_scale(dpdu, direction_uv.x), v3_scale(dpdv, direction_uv.y));
+    t = v3_sub(t, v3_scale(n, v3_dot(t, n)));
+    double len = v3_length(t);
+    if (!(len > 1e-12))
+        return 0;
+    t = v3_scale(t, 1.0 / len);
+    vec3 b = v3_cross(n, t);
+    /* The distal side faces the tip. A barb exactly along dP/dv leaves the
+     * side undefined; then dP/du breaks the tie consistently. */
+    double side = v3_dot(b, dpdv);
+    if (side < 0.0 || (side == 0.0 && v3_dot(b, dpdu) < 0.0))
+        b = v3_neg(b);
+    out->x = b;
+    out->y = n;
+    out->z = t;
+    return 1;
+}
+
+double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w)
+{
+    plm_masking m;
+    plm_masking_eval(&p->masking, frame_to_local(barb, w), &m);
+    return m.w_transmission;
+}
+
+void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
+                         plm_feather_bsdf *out)
+{
+    out->params = p;
+    out->tint = tint;
+    plm_masking *m = &out->masking;
+    plm_masking_eval(&p->masking, frame_to_local(barb, wo), m);
+    plm_barbule_frame proximal, distal;
+    plm_masking_barbule_frames(&p->masking, &proximal, &distal);
+    const plm_barbule_frame *bb[2] = {&proximal, &distal};
+    out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
+    for (int k = 0; k < 2; ++k) {
+        frame *f = &out->fiber_frame[1 + k];
+        f->x = frame_to_world(barb, bb[k]->e2);
+        f->y = frame_to_world(barb, bb[k]->e3);
+        f->z = frame_to_world(barb, bb[k]->axis);
+    }
+    out->fiber[PLM_FEATHER_BARB] = &p->barb;
+    out->fiber[PLM_FEATHER_PROXIMAL] = out->fiber[PLM_FEATHER_DISTAL] = &p->barbule;
+    double opaque = 1.0 - m->w_transmission;
+    double w[3] = {m->w_barb, m->w_proximal, m->w_distal};
+    for (int k = 0; k < 3; ++k)
+        out->weight[k] = opaque > 1e-12 ? w[k] / opaque : 0.0;
+
+    /* The barb is seen through up to five h-ranges of different rates: one
+     * range, chosen by rate, is a one-sample estimate of their weighted sum. */
+    plm_h_range barb_range = {-1.0, 1.0, 0.0};
+    double u = plm_rng_uniform(rng) * m->w_barb;
+    for (int i = 0; i < m->barb_range_count; ++i) {
+        barb_range = m->barb[i];
+        if (u < m->barb[i].rate)
+            break;
+        u -= m->barb[i].rate;
+    }
+    const plm_h_range *range[3] = {&barb_range, &m->proximal, &m->distal};
+    for (int k = 0; k < 3; ++k) {
+        out->set[k].count = 0;
+        out->set[k].total = 0.0;
+        if (out->weight[k] > 0.0)
+            plm_fiber_prepare(out->fiber[k], frame_to_local(&out->fiber_frame[k], wo), range[k]->hmin,
+                              range[k]->hmax, rng, &out->set[k]);
+    }
+    /* Sampling chooses among the components whose lobe set carries light. */
+    double total = 0.0;
+    for (int k = 0; k < 3; ++k)
+        total += out->pick[k] = out->set[k].total > 0.0 ? out->weight[k] : 0.0;
+    for (int k = 0; k < 3; ++k)
+        out->pick[k] = total > 0.0 ? out->pick[k] / total : 0.0;
+}
+
+/* cos(theta) of a fiber-frame direction: its component across the axis. */
+static double fiber_cos_theta(vec3 local) { return plm_safe_sqrt(1.0 - local.z * local.z); }
+
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi)
+{
+    rgb sum = rgb_gray(0.0);
+    for (int k = 0; k < 3; ++k) {
+        if (f->weight[k] <= 0.0 || f->set[k].count == 0)
+            continue;
+        vec3 local = frame_to_local(&f->fiber_frame[k], wi);
+        rgb s = plm_fiber_eval(f->fiber[k], &f->set[k], local);
+        sum = rgb_add(sum, rgb_scale(s, f->weight[k] * fiber_cos_theta(local)));
+    }
+    return rgb_mul(sum, f->tint);
+}
+
+double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
+{
+    double pdf = 0.0;
+    for (int k = 0; k < 3; ++k)
+        if (f->pick[k] > 0.0)
+            pdf += f->pick[k] * plm_fiber_pdf(f->fiber[k], &f->set[k], frame_to_local(&f->fiber_frame[k], wi));
+    return pdf;
+}
+
+int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,
+                       rgb *weight)
+{
+    const double *w = f->pick;
+    double u = u0;
+    int k = 0;
+    while (k < 2 && (u >= w[k] || w[k] == 0.0)) {
+        u -= w[k];
+        ++k;
+    }
+    if (w[k] <= 0.0)
+        return 0;
+    double remapped = plm_clamp(u / w[k], 0.0, 0x1.fffffffffffffp-1);
+    plm_fiber_sample_rec rec;
+    if (!plm_fiber_sample(f->fiber[k], &f->set[k], remapped, u1, u2, &rec))
+        return 0;
+    *wi = frame_to_world(&f->fiber_frame[k], rec.wi);
+    *pdf = plm_feather_pdf(f, *wi);
+    if (!(*pdf > 0.0))
+        return 0;
+    *weight = rgb_scale(plm_feather_eval(f, *wi), 1.0 / *pdf);
+    return 1;
+}

@@ -1,0 +1,69 @@
+/* The feather BSDF (paper Eq. 4): at a vane point, the barb BCSDF in the
+ * barb frame and the barbule BCSDFs in the proximal and distal barbule
+ * frames, each over the h-interval the masking leaves visible from wo and
+ * weighted by the masking's projected widths, plus the delta transmission w_t.
+ *
+ * With the fiber foreshortening G = cos(theta_i) of each fiber and the
+ * |wi.n|^-1 of Eq. 4, the cosine-weighted BSDF is
+ *   f_s |wi.n| = sum_k w_k(wo) S_k(wi) cos(theta_i,k)        (k = barb, proximal, distal)
+ * where S_k is plm_fiber_eval in fiber k's frame. The renderer takes w_t as
+ * fractional visibility (render/bsdf.h) and the rest divided by (1 - w_t):
+ * component k is then chosen with probability w_k / (1 - w_t). */
+#ifndef PLUMAGE_RENDER_FEATHER_BSDF_H
+#define PLUMAGE_RENDER_FEATHER_BSDF_H
+
+#include "common/rng.h"
+#include "common/vec.h"
+#include "render/fiber.h"
+#include "render/masking.h"
+
+typedef struct plm_feather_params {
+    plm_fiber_params barb;    /* in the barb frame: axis t, e2 = b, e3 = n */
+    plm_fiber_params barbule; /* in each barbule set's frame: axis, e2 = r1, e3 = r2 (DESIGN 3.1) */
+    plm_masking_params masking;
+} plm_feather_params;
+
+/* Barb: the fiber defaults with the paper's Fig. 7 absorption (0.133, 1.967, 2.1)
+ * and a concentric white medulla of radius 0.6; barbule: the fiber defaults
+ * (no medulla) with the same absorption; masking: DESIGN 4's defaults. */
+void plm_feather_params_default(plm_feather_params *p);
+plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err);
+
+/* The barb frame of DESIGN 3.1 at a vane point, as a frame with x = b, y = n,
+ * z = t: t = the texture's direction (cos a dP/du + sin a dP/dv) projected
+ * into the plane of the shading normal n, b = n x t or its opposite, whichever
+ * points to the tip (b . dP/dv > 0). Returns 0 if the tangents are degenerate. */
+int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, frame *out);
+
+enum { PLM_FEATHER_BARB = 0, PLM_FEATHER_PROXIMAL = 1, PLM_FEATHER_DISTAL = 2 };
+
+/* The BSDF prepared for one view direction wo: the masking, the three fiber
+ * frames in world space and one traced lobe set per fiber. */
+typedef struct plm_feather_bsdf {
+    const plm_feather_params *params;
+    frame fiber_frame[3];      /* x = e2, y = e3, z = fiber axis, in world space */
+    const plm_fiber_params *fiber[3];
+    double weight[3];          /* w_k / (1 - w_t): the components' share of the light that does not pass */
+    double pick[3];            /* sampling probabilities: weight among components whose lobe set carries light */
+    plm_masking masking;       /* for wo, in the barb frame */
+    plm_fiber_lobe_set set[3];
+    rgb tint;
+} plm_feather_bsdf;
+
+/* Masking weight of the straight-through event for a ray leaving toward w
+ * (the view side; w in world space, the barb frame as above). */
+double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w);
+
+/* Prepares for wo (world space): the masking, then a lobe set per fiber from
+ * rng (the barb's h-range chosen among the masking's ranges by their rates). */
+void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
+                         plm_feather_bsdf *out);
+
+/* f_s |wi.n| / (1 - w_t(wo)), see the top of this file. */
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi);
+double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi);
+/* Chooses a component by weight with u0, then samples its fiber. Returns 0 if nothing can be sampled. */
+int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,
+                       rgb *weight);
+
+#endif

@@ -1,0 +1,378 @@
+/* The feather BSDF (paper Eq. 4) on its own and in the renderer: the barb
+ * frame, a white furnace of its albedo, chi-square of sample against pdf,
+ * sample weights, transmission as fractional visibility (transparent shadows
+ * against stochastic passing) and a furnace scene. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/feather_bsdf.h"
+#include "render/render.h"
+#include "test_render_stats.h"
+
+/* A feather material whose texture is vane everywhere with barbs at angle a (uv space). */
+static plm_material feather_material(const plm_feather_params *p, double a)
+{
+    plm_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "feather");
+    m.type = PLM_MATERIAL_FEATHER;
+    m.reflectance = rgb_gray(0.8);
+    m.feather = malloc(sizeof *m.feather);
+    *m.feather = *p;
+    float *px = malloc(sizeof(float) * 4 * 4 * 3);
+    for (int i = 0; i < 16; ++i)
+        px[3 * i] = (float)((cos(a) + 1) / 2), px[3 * i + 1] = (float)((sin(a) + 1) / 2), px[3 * i + 2] = 1.0f;
+    plm_error err;
+    assert_int_equal(plm_feather_texture_from_pixels(4, 4, px, &m.texture, &err), PLM_OK);
+    return m;
+}
+
+static void free_material(plm_material *m)
+{
+    plm_feather_texture_free(&m->texture);
+    free(m->feather);
+}
+
+/* A hit on the plane z = 0 with u along x, v along y (toward the tip), normal +z. */
+static plm_hit plane_hit(const plm_material *m)
+{
+    plm_hit h;
+    memset(&h, 0, sizeof h);
+    h.ng = h.n = v3(0, 0, 1);
+    h.dpdu = v3(1, 0, 0);
+    h.dpdv = v3(0, 1, 0);
+    h.uv = v2(0.5, 0.5);
+    h.tint = rgb_gray(1.0);
+    h.material = m;
+    return h;
+}
+
+/* A clear feather (no absorption) with a white medulla in its barbs. */
+static plm_feather_params clear_params(int variant)
+{
+    plm_feather_params p;
+    plm_feather_params_default(&p);
+    p.barb.sigma_a = p.barbule.sigma_a = rgb_gray(0.0);
+    p.barb.medulla_reflectance = rgb_gray(1.0);
+    if (variant == 1) {
+        p.barb.eccentricity = 1.6;
+        p.masking.barb_eccentricity = 3.0;
+        p.masking.barbule_separation = 0.3;
+    } else if (variant == 2) {
+        p.masking.barbule_length = 3.0;
+        p.masking.barbule_inclination = plm_radians(45.0);
+        p.barbule.eccentricity = 2.0;
+        p.barb.medulla_ca = -0.1, p.barb.medulla_cb = 0.1;
+        p.barb.beta_m = p.barbule.beta_m = 0.3;
+    }
+    plm_error err;
+    assert_int_equal(plm_feather_params_validate(&p, &err), PLM_OK);
+    return p;
+}
+
+static void barb_frame_follows_texture_and_tip(void **state)
+{
+    (void)state;
+    for (int side = 0; side < 2; ++side) {
+        double a = side ? plm_radians(135.0) : plm_radians(45.0); /* right and left vanes */
+        frame f;
+        assert_true(plm_feather_barb_frame(v3(0, 0, 1), v3(2, 0, 0), v3(0, 1, 0), v2(cos(a), sin(a)), &f));
+        /* t follows the uv direction through the Jacobian: dP/du is twice as long as dP/dv. */
+        vec3 t = v3_normalize(v3(2 * cos(a), sin(a), 0));
+        assert_float_equal(v3_dot(f.z, t), 1.0, 1e-12);
+        assert_float_equal(v3_dot(f.x, f.z), 0.0, 1e-12);
+        assert_float_equal(v3_length(f.x), 1.0, 1e-12);
+        assert_true(v3_dot(f.x, v3(0, 1, 0)) > 0.0); /* distal side toward the tip */
+        assert_float_equal(f.y.z, 1.0, 0);
+    }
+    /* Degenerate tangents are refused. */
+    frame f;
+    assert_false(plm_feather_barb_frame(v3(0, 0, 1), v3(0, 0, 0), v3(0, 0, 0), v2(1, 0), &f));
+}
+
+/* Uniform-sphere Monte Carlo of the integral of eval, with its standard error. */
+static void integrate_eval(const plm_bsdf *b, plm_rng *rng, int n, double *mean, double *se)
+{
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+        vec3 wi = plm_sample_uniform_sphere(plm_rng_uniform(rng), plm_rng_uniform(rng));
+        double v = rgb_mean(plm_bsdf_eval(b, wi)) * 4.0 * PLM_PI;
+        sum += v;
+        sum2 += v * v;
+    }
+    *mean = sum / n;
+    *se = sqrt(fmax(sum2 / n - *mean * *mean, 0.0) / n);
+}
+
+/* White furnace: without absorption the albedo, the integral of f |cos| plus
+ * w_t, is 1 minus what the fiber lobes lose (light still inside after N
+ * lobes). For each prepared BSDF, the integral of eval equals the weighted
+ * lobe energy of its lobe sets; over many views the albedo is close to 1. */
+static void white_furnace_of_the_bsdf(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 5, 5);
+    double albedo_sum = 0.0;
+    int cases = 0;
+    for (int variant = 0; variant < 3; ++variant) {
+        plm_feather_params p = clear_params(variant);
+        plm_material m = feather_material(&p, plm_radians(60.0));
+        plm_hit hit = plane_hit(&m);
+        const double views[][3] = {{0.1, 0.2, 1.0}, {0.7, -0.3, 0.4}, {-0.5, 0.6, 0.3}, {0.3, 0.2, -0.8}};
+        for (int v = 0; v < 4; ++v) {
+            vec3 wo = v3_normalize(v3(views[v][0], views[v][1], views[v][2]));
+            plm_bsdf b;
+            plm_material_bsdf(&hit, wo, &rng, &b);
+            const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
+            double lobe_energy = 0.0;
+            for (int k = 0; k < 3; ++k)
+                for (int j = 0; j < f->set[k].count; ++j)
+                    lobe_energy += f->weight[k] * rgb_mean(f->set[k].throughput[j]);
+            double integral, se;
+            integrate_eval(&b, &rng, 400000, &integral, &se);
+            if (fabs(integral - lobe_energy) > 4.0 * se + 1e-3)
+                fail_msg("variant %d view %d: integral of f|cos| %.4f +- %.4f, lobe energy %.4f", variant, v,
+                         integral, se, lobe_energy);
+            double wt = plm_material_transmission(&hit, wo);
+            assert_float_equal(wt, f->masking.w_transmission, 1e-15);
+            double albedo = (1.0 - wt) * lobe_energy + wt;
+            assert_true(albedo <= 1.0 + 1e-9);
+            albedo_sum += albedo;
+            ++cases;
+        }
+        free_material(&m);
+    }
+    /* Five lobes keep >= 97% of the energy on average (the fiber's own test); the masking loses nothing. */
+    assert_true(albedo_sum / cases > 0.95);
+}
+
+static double chi2_p_value(double chi2, int dof)
+{
+    double k = dof, z = (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+    return 0.5 * erfc(z / sqrt(2.0));
+}
+
+enum { THETA_BINS = 60, PHI_BINS = 120 };
+
+/* Cell of the (theta, phi) grid of frame f holding w (theta = asin(w.z), phi = atan2(w.y, w.x)). */
+static int grid_cell(const frame *f, vec3 w)
+{
+    vec3 l = frame_to_local(f, w);
+    double theta = asin(plm_clamp(l.z, -1, 1)), phi = atan2(l.y, l.x);
+    int it = (int)((theta + 0.5 * PLM_PI) / (PLM_PI / THETA_BINS)), ip = (int)((phi + PLM_PI) / (PLM_TWO_PI / PHI_BINS));
+    it = it < 0 ? 0 : it >= THETA_BINS ? THETA_BINS - 1 : it;
+    ip = ip < 0 ? 0 : ip >= PHI_BINS ? PHI_BINS - 1 : ip;
+    return it * PHI_BINS + ip;
+}
+
+/* Histogram of plm_bsdf_sample over a (theta, phi) grid of the barb frame
+ * against the pdf integrated over each cell by an 8x8 midpoint rule (pbrt-v4's
+ * test); also checks each sample's weight and pdf, and that the pdf is the
+ * pick-weighted mixture of the three fibers' pdfs. Returns the p-value of
+ * Pearson's chi-square. */
+static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
+{
+    static double observed[THETA_BINS * PHI_BINS], expected[THETA_BINS * PHI_BINS];
+    memset(observed, 0, sizeof observed);
+    memset(expected, 0, sizeof expected);
+    const plm_feather_bsdf *fb = (const plm_feather_bsdf *)b->state;
+    const frame f = fb->fiber_frame[PLM_FEATHER_BARB];
+    for (int s = 0; s < n; ++s) {
+        plm_bsdf_sample_rec rec;
+        if (!plm_bsdf_sample(b, plm_rng_uniform(rng), plm_rng_uniform(rng), plm_rng_uniform(rng), &rec))
+            continue;
+        double pdf = plm_bsdf_pdf(b, rec.wi), mix = 0.0;
+        for (int k = 0; k < 3; ++k)
+            if (fb->pick[k] > 0.0)
+                mix += fb->pick[k] * plm_fiber_pdf(fb->fiber[k], &fb->set[k], frame_to_local(&fb->fiber_frame[k], rec.wi));
+        rgb e = plm_bsdf_eval(b, rec.wi);
+        assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
+        assert_true(fabs(mix - pdf) <= 1e-12 * pdf);
+        assert_true(fabs(rec.weight.r - e.r / pdf) <= 1e-9 * rec.weight.r + 1e-300);
+        observed[grid_cell(&f, rec.wi)] += 1.0;
+    }
+    const double dt = PLM_PI / THETA_BINS, df = PLM_TWO_PI / PHI_BINS;
+    for (int it = 0; it < THETA_BINS; ++it)
+        for (int ip = 0; ip < PHI_BINS; ++ip) {
+            double sum = 0.0;
+            for (int a = 0; a < 8; ++a)
+                for (int c = 0; c < 8; ++c) {
+                    double theta = -0.5 * PLM_PI + (it + (a + 0.5) / 8) * dt, phi = -PLM_PI + (ip + (c + 0.5) / 8) * df;
+                    vec3 w = frame_to_world(&f, v3(cos(theta) * cos(phi), cos(theta) * sin(phi), sin(theta)));
+                    sum += plm_bsdf_pdf(b, w) * cos(theta);
+                }
+            expected[it * PHI_BINS + ip] = n * sum * dt * df / 64.0;
+        }
+    double total = 0.0;
+    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i)
+        total += expected[i];
+    assert_true(fabs(total / n - 1.0) < 0.01); /* the pdf integrates to 1 */
+    double chi2 = 0.0, pooled_e = 0.0, pooled_o = 0.0;
+    int dof = 0;
+    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i) {
+        if (expected[i] == 0.0 && observed[i] > 0.0)
+            return 0.0;
+        if (expected[i] < 5.0) {
+            pooled_e += expected[i];
+            pooled_o += observed[i];
+        } else {
+            chi2 += plm_sqr(observed[i] - expected[i]) / expected[i];
+            ++dof;
+        }
+    }
+    if (pooled_e > 0.0) {
+        chi2 += plm_sqr(pooled_o - pooled_e) / pooled_e;
+        ++dof;
+    }
+    return chi2_p_value(chi2, dof - 1);
+}
+
+static void sampling_matches_pdf(void **state)
+{
+    (void)state;
+    enum { N_TESTS = 4 };
+    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    plm_rng rng;
+    plm_rng_seed(&rng, 8, 8);
+    for (int t = 0; t < N_TESTS; ++t) {
+        plm_feather_params p;
+        plm_feather_params_default(&p);
+        p.barb.beta_m = p.barb.beta_n = p.barbule.beta_m = p.barbule.beta_n = t < 2 ? 0.25 : 0.12;
+        if (t % 2)
+            p.masking.barbule_inclination = plm_radians(30.0), p.masking.barbule_separation = 0.2;
+        plm_material m = feather_material(&p, plm_radians(50.0 + 20.0 * t));
+        plm_hit hit = plane_hit(&m);
+        vec3 wo = v3_normalize(t == 3 ? v3(0.4, 0.3, -0.6) : v3(0.3 * t, 0.5, 0.8));
+        plm_bsdf b;
+        plm_material_bsdf(&hit, wo, &rng, &b);
+        double pv = chi_square(&b, &rng, 300000);
+        if (!(pv > threshold))
+            fail_msg("chi-square test %d: p-value %.5f below %.5f", t, pv, threshold);
+        free_material(&m);
+    }
+}
+
+/* Same rng state, same BSDF: eval and pdf are deterministic given the prepared state. */
+static void prepared_bsdf_is_deterministic(void **state)
+{
+    (void)state;
+    plm_feather_params p;
+    plm_feather_params_default(&p);
+    plm_material m = feather_material(&p, 1.0);
+    plm_hit hit = plane_hit(&m);
+    plm_rng a, b;
+    plm_rng_seed(&a, 1, 2);
+    plm_rng_seed(&b, 1, 2);
+    plm_bsdf x, y;
+    vec3 wo = v3_normalize(v3(0.2, 0.1, 1.0)), wi = v3_normalize(v3(-0.3, 0.2, 0.9));
+    plm_material_bsdf(&hit, wo, &a, &x);
+    plm_material_bsdf(&hit, wo, &b, &y);
+    assert_true(rgb_mean(plm_bsdf_eval(&x, wi)) == rgb_mean(plm_bsdf_eval(&y, wi)));
+    assert_true(plm_bsdf_pdf(&x, wi) == plm_bsdf_pdf(&y, wi));
+    assert_true(rgb_mean(plm_bsdf_eval(&x, wi)) == rgb_mean(plm_bsdf_eval(&x, wi)));
+    free_material(&m);
+}
+
+/* ---------- the feather in scenes ---------- */
+
+static void add_feather_sheet(plm_scene *s, const plm_feather_params *p, double curl, plm_xform x)
+{
+    plm_mesh mesh;
+    plm_error err;
+    assert_int_equal(plm_shape_quad(2.0, 2.0, curl, 32, &mesh, &err), PLM_OK);
+    int mi = plm_scene_add_mesh(s, "vane", &mesh);
+    plm_material m = feather_material(p, plm_radians(60.0));
+    plm_instance in = {mi, plm_scene_add_material(s, &m), x, rgb_gray(1.0)};
+    assert_true(plm_scene_add_instance(s, &in) >= 0);
+}
+
+/* Feathers (curled, seen from both sides) in a uniform white sky: radiance 1
+ * up to the fiber lobes' loss, a few percent at most. */
+static void furnace_scene(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    plm_feather_params p = clear_params(0);
+    add_feather_sheet(&s, &p, 1.2, plm_xform_identity());
+    plm_light sky;
+    memset(&sky, 0, sizeof sky);
+    sky.type = PLM_LIGHT_CONSTANT_ENV;
+    sky.radiance = rgb_gray(1.0);
+    plm_scene_add_light(&s, &sky);
+    s.camera = (plm_camera_desc){v3(0.4, 0.3, 2.5), v3(0, 0, -0.3), v3(0, 1, 0), 30, 0, 0, 1};
+    s.film.width = s.film.height = 32;
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate e = film_mean(&w, PLM_ESTIMATOR_MIS, 64, 20000, 3);
+    if (!(e.mean < 1.0 + 4.0 * e.se && e.mean > 0.96))
+        fail_msg("furnace: %.4f +- %.4f", e.mean, e.se);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+/* A feather sheet between a floor and a quad light: light sampling attenuates
+ * shadow rays by w_t of their direction, BSDF sampling passes the sheet with
+ * that probability; both must give the same image (from below the sheet). */
+static void feather_shadows_agree_with_stochastic_passing(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    plm_feather_params p;
+    plm_feather_params_default(&p);
+    p.masking.barbule_separation = 2.0;
+    plm_xform lift = plm_xform_translate(v3(0, 0, 0.6)), tilt = plm_xform_rotate(v3(1, 0, 0), 0.3);
+    plm_xform x = plm_xform_compose(&lift, &tilt);
+    add_feather_sheet(&s, &p, 0.0, x);
+    plm_mesh floor;
+    plm_error err;
+    assert_int_equal(plm_shape_quad(6, 6, 0, 1, &floor, &err), PLM_OK);
+    plm_material grey;
+    memset(&grey, 0, sizeof grey);
+    snprintf(grey.name, sizeof grey.name, "grey");
+    grey.reflectance = rgb_gray(0.5);
+    plm_instance fl = {plm_scene_add_mesh(&s, "floor", &floor), plm_scene_add_material(&s, &grey),
+                       plm_xform_identity(), rgb_gray(1.0)};
+    plm_scene_add_instance(&s, &fl);
+    plm_light q;
+    memset(&q, 0, sizeof q);
+    q.type = PLM_LIGHT_QUAD;
+    q.corner = v3(-0.5, -0.5, 1.5);
+    q.edge_u = v3(0, 1, 0);
+    q.edge_v = v3(1, 0, 0);
+    q.radiance = rgb_gray(5.0);
+    plm_scene_add_light(&s, &q);
+    s.camera = (plm_camera_desc){v3(0.0, -1.2, 0.35), v3(0, 0, 0), v3(0, 0, 1), 50, 0, 0, 1};
+    s.film.width = s.film.height = 24;
+    plm_world w;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 4, 20000, 31);
+    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 4, 60000, 32);
+    assert_agree(nee, bsdf, 4.5);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(barb_frame_follows_texture_and_tip),
+        cmocka_unit_test(white_furnace_of_the_bsdf),
+        cmocka_unit_test(sampling_matches_pdf),
+        cmocka_unit_test(prepared_bsdf_is_deterministic),
+        cmocka_unit_test(furnace_scene),
+        cmocka_unit_test(feather_shadows_agree_with_stochastic_passing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
