@@ -1,5 +1,6 @@
 /* plumage generate: a feather (meshes, textures, scene) from a species
- * preset, or a contact sheet of several. */
+ * preset, or a contact sheet of several; plumage texture: the textures alone.
+ * Both share one option table. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,7 +74,7 @@ static int contact_sheet(const char *out, const char **files, int n, const plm_f
     return ok ? 0 : 1;
 }
 
-int cmd_generate(int argc, char **argv)
+static int run(int argc, char **argv, int textures_only)
 {
     const char *species = NULL, *output = NULL, *sheet = NULL;
     int level = PLM_FEATHER_DEFAULT_LEVEL, size = 1024, tw = 0, th = 0, obj = 0, no_pigment = 0, format = 0;
@@ -82,31 +83,38 @@ int cmd_generate(int argc, char **argv)
         {"--species", PLM_OPT_STRING, &species, 0, 0, 0, NULL, "FILE", "species preset (presets/species/*.json)", 0},
         {"-o", PLM_OPT_STRING, &output, 0, 0, 0, NULL, "DIR", "output directory (created if missing)", 0},
         {"--output", PLM_OPT_STRING, &output, 0, 0, 0, NULL, "DIR", "same as -o", 0},
-        {"--level", PLM_OPT_INT, &level, 0, 1, 6, NULL, "N", "subdivision level of the meshes (default 3)", 0},
         {"--texture-size", PLM_OPT_INT, &size, 0, 8, 16384, NULL, "N", "texture width and height (default 1024)", 0},
         {"--texture-width", PLM_OPT_INT, &tw, 0, 8, 16384, NULL, "N", "texture width (overrides --texture-size)", 0},
         {"--texture-height", PLM_OPT_INT, &th, 0, 8, 16384, NULL, "N", "texture height (overrides --texture-size)", 0},
         {"--format", PLM_OPT_CHOICE, &format, 0, 0, 0, formats, "F", "texture files: both (default), exr or png", 0},
-        {"--obj", PLM_OPT_FLAG, &obj, 0, 0, 0, NULL, NULL, "also write the meshes as OBJ", 0},
         {"--no-pigment", PLM_OPT_FLAG, &no_pigment, 0, 0, 0, NULL, NULL, "skip the pigment image", 0},
+        {"--level", PLM_OPT_INT, &level, 0, 1, 6, NULL, "N", "subdivision level of the meshes (default 3)", 0},
+        {"--obj", PLM_OPT_FLAG, &obj, 0, 0, 0, NULL, NULL, "also write the meshes as OBJ", 0},
         {"--contact-sheet", PLM_OPT_STRING, &sheet, 0, 0, 0, NULL, "PNG",
          "instead: a contact sheet of the species files given as arguments", 0},
         {"--tile", PLM_OPT_INT, &tile, 0, 64, 4096, NULL, "N", "contact sheet panel height in pixels (default 512)", 0},
     };
-    const plm_command_help help = {
+    const plm_command_help generate_help = {
         "plumage generate --species FILE -o DIR [options]\n       plumage generate --contact-sheet OUT.png "
         "SPECIES.json...",
         "Builds a feather from a species preset: the vane and rachis meshes (PLY, OpenSubdiv limit surfaces), the "
         "feather texture (barb direction and regions) and the pigment texture (EXR and 16-bit PNG), and "
         "feather.json, a scene for 'plumage render'. The README's \"Generating feathers\" section documents every "
         "species field."};
+    const plm_command_help texture_help = {
+        "plumage texture --species FILE -o DIR [--texture-size N] [--format F] [--no-pigment]",
+        "Writes feather.exr/.png (barb direction and regions) and pigment.exr/.png for a species, as 'plumage "
+        "generate' does, without the meshes or the scene."};
+    const plm_command_help *help = textures_only ? &texture_help : &generate_help;
     const char *positional[64];
     int n_pos = 0, n_opts = (int)(sizeof opts / sizeof opts[0]);
-    int rc = plm_parse_options(&help, argc, argv, 1, opts, n_opts, positional, 64, &n_pos);
+    /* The mesh and sheet options (the last four) mean nothing to `texture`. */
+    int rc = plm_parse_options(help, argc, argv, 1, opts, textures_only ? n_opts - 4 : n_opts, positional,
+                               textures_only ? 0 : 64, &n_pos);
     if (rc)
         return rc == 1 ? 0 : 2;
     plm_feather_options fo = {.level = level, .texture_width = tw ? tw : size, .texture_height = th ? th : size,
-                              .no_pigment = no_pigment};
+                              .no_pigment = no_pigment, .no_meshes = textures_only};
     if (sheet) {
         if (n_pos == 0 || species || output) {
             fprintf(stderr, "error: --contact-sheet takes species files as arguments (and no --species or -o)\n");
@@ -115,7 +123,7 @@ int cmd_generate(int argc, char **argv)
         return contact_sheet(sheet, positional, n_pos, &fo, tile);
     }
     if (!species || !output || n_pos) {
-        fprintf(stderr, "error: plumage generate needs --species FILE and -o DIR (see --help)\n");
+        fprintf(stderr, "error: plumage %s needs --species FILE and -o DIR (see --help)\n", argv[0]);
         return 2;
     }
     plm_species sp;
@@ -129,7 +137,8 @@ int cmd_generate(int argc, char **argv)
     if (r == PLM_OK) {
         triangles[0] = f.vane.triangle_count;
         triangles[1] = f.rachis.triangle_count;
-        r = plm_feather_write(&f, &sp, output, &files, &err);
+        r = textures_only ? plm_feather_write_textures(&f, output, &files, &err)
+                          : plm_feather_write(&f, &sp, output, &files, &err);
         plm_feather_free(&f);
     }
     plm_species_free(&sp);
@@ -137,7 +146,14 @@ int cmd_generate(int argc, char **argv)
         fprintf(stderr, "error: %s\n", err.message);
         return 1;
     }
-    printf("%s: vane %d triangles, rachis %d triangles, textures %dx%d -> %s/feather.json\n", species,
-           triangles[0], triangles[1], fo.texture_width, fo.texture_height, output);
+    if (textures_only)
+        printf("%s: textures %dx%d -> %s\n", species, fo.texture_width, fo.texture_height, output);
+    else
+        printf("%s: vane %d triangles, rachis %d triangles, textures %dx%d -> %s/feather.json\n", species,
+               triangles[0], triangles[1], fo.texture_width, fo.texture_height, output);
     return 0;
 }
+
+int cmd_generate(int argc, char **argv) { return run(argc, argv, 0); }
+
+int cmd_texture(int argc, char **argv) { return run(argc, argv, 1); }

@@ -32,6 +32,15 @@ static plm_species load_preset(const char *name)
     return sp;
 }
 
+/* The meshes (no textures) of a species. */
+static plm_feather meshes_of(const plm_species *sp)
+{
+    plm_feather f;
+    plm_feather_options opt = {.no_textures = 1};
+    assert_int_equal(plm_feather_generate(sp, &opt, &f, NULL), PLM_OK);
+    return f;
+}
+
 /* Parses JSON text as a species; returns the result and leaves the message. */
 static plm_result parse_text(const char *text, plm_error *err)
 {
@@ -209,9 +218,7 @@ static void vanes_are_clean_open_disks(void **state)
     (void)state;
     for (int p = 0; p < PRESET_COUNT; ++p) {
         plm_species sp = load_preset(presets[p]);
-        plm_feather f;
-        plm_feather_options opt = {.no_textures = 1};
-        assert_int_equal(plm_feather_generate(&sp, &opt, &f, NULL), PLM_OK);
+        plm_feather f = meshes_of(&sp);
         const plm_mesh *m = &f.vane;
         edge_stats s = count_edges(m);
         assert_int_equal(s.non_manifold, 0);
@@ -248,9 +255,7 @@ static void rachis_is_a_closed_outward_tube(void **state)
     (void)state;
     for (int p = 0; p < PRESET_COUNT; ++p) {
         plm_species sp = load_preset(presets[p]);
-        plm_feather f;
-        plm_feather_options opt = {.no_textures = 1};
-        assert_int_equal(plm_feather_generate(&sp, &opt, &f, NULL), PLM_OK);
+        plm_feather f = meshes_of(&sp);
         const plm_mesh *m = &f.rachis;
         edge_stats s = count_edges(m);
         assert_int_equal(s.boundary_edges, 0);
@@ -284,9 +289,7 @@ static void length_and_widths_match_the_parameters(void **state)
     plm_species sp = load_preset("remex_pigeon");
     sp.shape.bend_in_plane = sp.shape.bend_out_of_plane = sp.shape.twist = 0.0;
     sp.shape.curl = 0.0;
-    plm_feather f;
-    plm_feather_options opt = {.no_textures = 1};
-    assert_int_equal(plm_feather_generate(&sp, &opt, &f, NULL), PLM_OK);
+    plm_feather f = meshes_of(&sp);
     double lo = 1e9, hi = -1e9, vlo = 1e9, vhi = -1e9;
     for (int v = 0; v < f.rachis.vertex_count; ++v) {
         lo = fmin(lo, f.rachis.positions[3 * v + 1]);
@@ -401,9 +404,7 @@ static void same_species_same_bytes(void **state)
     unsigned char *bytes[2];
     long size[2];
     for (int k = 0; k < 2; ++k) {
-        plm_feather f;
-        plm_feather_options opt = {.no_textures = 1};
-        assert_int_equal(plm_feather_generate(&sp, &opt, &f, NULL), PLM_OK);
+        plm_feather f = meshes_of(&sp);
         assert_int_equal(plm_mesh_write(names[k], &f.vane, NULL), PLM_OK);
         plm_feather_free(&f);
         FILE *fp = fopen(names[k], "rb");

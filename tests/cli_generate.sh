@@ -1,0 +1,74 @@
+# plumage generate / texture / bench generate end to end: outputs, determinism,
+# and bad species files that must fail with the field named and nothing written.
+# usage: bash cli_generate.sh <plumage> <scratch dir>
+set -u
+source "$(dirname "$0")/lib_cli.sh"
+SPECIES=${PLUMAGE_SOURCE_DIR:-$(dirname "$0")/..}/presets/species
+
+expect_ok "help" "$PLUMAGE" generate --help
+expect_output "top-level help lists generate" "generate" "$PLUMAGE" --help
+expect_ok "texture help" "$PLUMAGE" texture --help
+
+# A small feather from every preset: meshes, textures and the scene.
+for s in "$SPECIES"/*.json; do
+    name=$(basename "$s" .json)
+    expect_ok "generate $name" "$PLUMAGE" generate --species "$s" -o "out_$name" --texture-size 128 --obj
+    missing=""
+    for f in vane.ply rachis.ply vane.obj rachis.obj feather.exr feather.png pigment.exr pigment.png feather.json; do
+        [ -s "out_$name/$f" ] || missing="$missing $f"
+    done
+    if [ -z "$missing" ]; then pass "$name files"; else fail "$name files missing:$missing"; fi
+done
+if grep -q '"type":[[:space:]]*"feather"' out_remex_pigeon/feather.json &&
+   grep -q '"vane.ply"' out_remex_pigeon/feather.json && grep -q '"camera"' out_remex_pigeon/feather.json; then
+    pass "feather.json names the meshes, the feather material and a camera"
+else
+    fail "feather.json content: $(head -c 300 out_remex_pigeon/feather.json)"
+fi
+
+# Same species, same bytes (EXR: OpenImageIO stamps the header with the
+# write time, so the comparison starts after the 512-byte header).
+expect_ok "generate again" "$PLUMAGE" generate --species "$SPECIES/covert_parrot.json" -o again --texture-size 128 --obj
+for f in vane.ply rachis.ply vane.obj feather.png pigment.png feather.json; do
+    if cmp -s "out_covert_parrot/$f" "again/$f"; then pass "same bytes $f"; else fail "bytes differ: $f"; fi
+done
+for f in feather.exr pigment.exr; do
+    if cmp -s -i 512 "out_covert_parrot/$f" "again/$f"; then pass "same pixels $f"; else fail "pixels differ: $f"; fi
+done
+
+# Textures alone, one format.
+expect_ok "texture command" "$PLUMAGE" texture --species "$SPECIES/remex_pigeon.json" -o tex --texture-size 64 --format png
+if [ -s tex/feather.png ] && [ -s tex/pigment.png ] && [ ! -e tex/feather.exr ] && [ ! -e tex/vane.ply ]; then
+    pass "texture writes only the PNG textures"
+else
+    fail "texture outputs: $(ls tex 2>&1)"
+fi
+
+# Bad species: the message names the field, the exit status is non-zero, nothing is written.
+bad() { # NAME PATTERN JSON
+    printf '%s\n' "$3" > "bad_$1.json"
+    expect_stderr "bad $1 names the field" "$2" "$PLUMAGE" generate --species "bad_$1.json" -o "badout_$1"
+    if [ -e "badout_$1" ]; then fail "bad $1 left output behind"; else pass "bad $1 writes nothing"; fi
+}
+bad negative_width 'shape\.vane\.left\.width\[1\].*out of range' \
+    '{"shape": {"vane": {"left": {"width": [[0, 5], [0.5, -2], [1, 3]]}}}}'
+bad wide_rachis_tip 'shape\.rachis\.tip_width.*wider than the base' \
+    '{"shape": {"rachis": {"base_width": 1, "tip_width": 3}}}'
+bad split_beyond 'shape\.splits\[0\]\.position.*beyond' \
+    '{"shape": {"splits": {"list": [{"position": 1.4, "depth": 0.3}]}}}'
+bad split_too_deep 'shape\.splits\[0\]\.depth.*beyond' \
+    '{"shape": {"splits": {"list": [{"position": 0.6, "depth": 2}]}}}'
+bad unknown_field 'shape\.rachis\.colour.*unknown field' '{"shape": {"rachis": {"colour": 1}}}'
+bad tip_shape 'shape\.vane\.tip\.shape' '{"shape": {"vane": {"tip": {"shape": "square"}}}}'
+bad malformed 'bad_malformed\.json:[0-9]+:[0-9]+' '{"shape": {'
+expect_stderr "missing species file" "no_such\.json" "$PLUMAGE" generate --species no_such.json -o x
+expect_stderr "unknown option" "--frobnicate" "$PLUMAGE" generate --frobnicate
+expect_stderr "level out of range" "--level" "$PLUMAGE" generate --species "$SPECIES/remex_pigeon.json" -o y --level 9
+expect_fail "no output directory" "$PLUMAGE" generate --species "$SPECIES/remex_pigeon.json"
+
+# Contact sheet and benchmark.
+expect_ok "contact sheet" "$PLUMAGE" generate --contact-sheet sheet.png --tile 128 --texture-size 128 "$SPECIES"/*.json
+[ -s sheet.png ] && pass "contact sheet written" || fail "no sheet.png"
+expect_output "bench generate" "generate_ms [0-9.]+" "$PLUMAGE" bench generate --species "$SPECIES/remex_pigeon.json" \
+    --runs 1 --texture-size 64
+finish

@@ -1,0 +1,339 @@
+/* Feather textures (texture/): barb angles, integral curves, the region mask
+ * against the outline, splits, the plumulaceous base and the rachis, file
+ * round trips and reproducibility. Expected values come from the species
+ * parameters, not from the code under test. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "texture/feather.h"
+#include "texture/preview.h"
+#include "texture/texture.h"
+
+static plm_species load_preset(const char *name)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/presets/species/%s.json", PLUMAGE_SOURCE_DIR, name);
+    plm_species sp;
+    plm_error err = {{0}};
+    assert_int_equal(plm_species_load(path, &sp, &err), PLM_OK);
+    return sp;
+}
+
+static plm_feather textures_of(const plm_species *sp, int size)
+{
+    plm_feather f;
+    plm_feather_options opt = {.texture_width = size, .texture_height = size, .no_meshes = 1};
+    plm_error err = {{0}};
+    plm_result rc = plm_feather_generate(sp, &opt, &f, &err);
+    if (rc != PLM_OK)
+        fprintf(stderr, "%s\n", err.message);
+    assert_int_equal(rc, PLM_OK);
+    return f;
+}
+
+static const float *texel_at(const plm_image *t, int i, int j)
+{
+    return t->pixels + 3 * ((size_t)j * t->width + i);
+}
+
+/* Flat coordinates of texel centres and back. */
+static double texel_x(const plm_feather *f, int i)
+{
+    return plm_outline_flat(&f->outline, (i + 0.5) / f->texture.width, 0.5).x;
+}
+static double row_y(const plm_feather *f, int j)
+{
+    return plm_outline_flat(&f->outline, 0.5, 1.0 - (j + 0.5) / f->texture.height).y;
+}
+static int row_of(const plm_feather *f, double y)
+{
+    vec2 uv = plm_outline_uv(&f->outline, 0.0, y);
+    return (int)floor((1.0 - uv.y) * f->texture.height);
+}
+static int column_of(const plm_feather *f, double x)
+{
+    return (int)floor(plm_outline_uv(&f->outline, x, 0.0).x * f->texture.width);
+}
+static plm_flat_region region_at(const plm_feather *f, double x, double y)
+{
+    return plm_texture_region_of(texel_at(&f->texture, column_of(f, x), row_of(f, y))[2]);
+}
+
+/* The barb's angle to the rachis (degrees) stored at a texel, back in flat mm. */
+static double barb_angle_at(const plm_feather *f, int i, int j)
+{
+    const float *p = texel_at(&f->texture, i, j);
+    double dx = (2.0 * p[0] - 1.0) * 2.0 * f->outline.half_extent, dy = (2.0 * p[1] - 1.0) * f->outline.vane_length;
+    return plm_degrees(atan2(fabs(dx), dy));
+}
+
+/* Next to the rachis the stored angle is the parameterised one, per side,
+ * interpolated from base to tip; directions point away from the rachis. */
+static void barb_angle_at_the_rachis_is_the_parameter(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("remex_pigeon");
+    plm_feather f = textures_of(&sp, 1024);
+    const plm_shape *sh = &sp.shape;
+    double lv = sh->length - sh->calamus_length;
+    for (int k = 1; k <= 8; ++k) {
+        double t = 0.1 * k;
+        int j = row_of(&f, sh->calamus_length + t * lv);
+        double y = row_y(&f, j), tr = (y - sh->calamus_length) / lv;
+        /* Rachis half-width from the parameters: base + (tip - base) s^taper. */
+        double r = 0.5 * (sh->rachis_base_width +
+                          (sh->rachis_tip_width - sh->rachis_base_width) * pow(y / sh->length, sh->rachis_taper));
+        for (int side = 0; side < 2; ++side) {
+            double sign = side ? 1.0 : -1.0, texel_w = 2.0 * f.outline.half_extent / f.texture.width;
+            int i = column_of(&f, sign * (r + 0.5 * texel_w));
+            if (fabs(texel_x(&f, i)) <= r)
+                i += side ? 1 : -1;
+            assert_int_equal(plm_texture_region_of(texel_at(&f.texture, i, j)[2]), PLM_FLAT_VANE);
+            double expect = plm_degrees(sh->barb_angle_base[side] +
+                                        (sh->barb_angle_tip[side] - sh->barb_angle_base[side]) * tr);
+            assert_float_equal(barb_angle_at(&f, i, j), expect, 0.5);
+            const float *p = texel_at(&f.texture, i, j);
+            assert_true((2.0 * p[0] - 1.0) * sign > 0.0); /* away from the rachis */
+        }
+    }
+    plm_feather_free(&f);
+    plm_species_free(&sp);
+}
+
+/* With constant barb angle and rachis width the barb turns linearly: half
+ * way from the rachis to the widest point it has turned curvature / 2. */
+static void barbs_curve_toward_the_tip_by_the_curvature(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("covert_parrot");
+    plm_shape *sh = &sp.shape;
+    sh->barb_angle_base[0] = sh->barb_angle_tip[0] = sh->barb_angle_base[1] = sh->barb_angle_tip[1] =
+        plm_radians(50.0);
+    sh->barb_curvature = plm_radians(20.0);
+    sh->rachis_tip_width = sh->rachis_base_width;
+    sh->split_count = 0;
+    plm_feather f = textures_of(&sp, 1024);
+    double r = 0.5 * sh->rachis_base_width;
+    for (int side = 0; side < 2; ++side) {
+        double w = f.outline.widest[side];
+        for (double q = 0.25; q < 0.8; q += 0.25) {
+            double a = r + q * (w - r), y = sh->calamus_length + 0.7 * (sh->length - sh->calamus_length);
+            int i = column_of(&f, side ? a : -a), j = row_of(&f, y);
+            double a_texel = fabs(texel_x(&f, i));
+            double expect = 50.0 - 20.0 * (a_texel - r) / (w - r);
+            assert_float_equal(barb_angle_at(&f, i, j), expect, 0.05);
+        }
+    }
+    plm_feather_free(&f);
+    plm_species_free(&sp);
+}
+
+/* Barbs traced through the stored directions stay on one barb: the point
+ * where each meets the rachis centre line (the stream function psi) drifts
+ * by less than one texel along the whole barb. */
+static void stored_directions_are_tangents_of_the_barbs(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("remex_pigeon");
+    plm_feather f = textures_of(&sp, 1024);
+    const plm_outline *o = &f.outline;
+    enum { MAX = 20000 };
+    vec2 *pts = malloc(sizeof *pts * MAX);
+    double texel_h = o->vane_length / f.texture.height, step = 0.25 / f.texture.width;
+    for (int side = 0; side < 2; ++side)
+        for (int k = 2; k <= 8; k += 2) {
+            double y = o->vane_base + 0.1 * k * o->vane_length;
+            int n = plm_preview_trace_barb(&f, side, y, step, pts, MAX);
+            vec2 p0 = plm_outline_flat(o, pts[0].x, pts[0].y), pn = plm_outline_flat(o, pts[n - 1].x, pts[n - 1].y);
+            /* The traced barb crosses most of the vane. */
+            assert_true(fabs(pn.x) > 0.8 * plm_outline_width(o, side, (pn.y - o->vane_base) / o->vane_length));
+            double psi0 = plm_outline_sample(o, p0.x, p0.y).barb_origin, drift = 0.0;
+            for (int i = 0; i < n; ++i) {
+                vec2 p = plm_outline_flat(o, pts[i].x, pts[i].y);
+                drift = fmax(drift, fabs(plm_outline_sample(o, p.x, p.y).barb_origin - psi0));
+            }
+            assert_true(drift < texel_h);
+        }
+    free(pts);
+    plm_feather_free(&f);
+    plm_species_free(&sp);
+}
+
+/* Outermost vane texel of a row on one side, as a width in mm. */
+static double mask_width(const plm_feather *f, int j, int side)
+{
+    double texel_w = 2.0 * f->outline.half_extent / f->texture.width, width = 0.0;
+    for (int i = 0; i < f->texture.width; ++i) {
+        double x = texel_x(f, i);
+        if ((x > 0.0) == side && plm_texture_region_of(texel_at(&f->texture, i, j)[2]) == PLM_FLAT_VANE)
+            width = fmax(width, fabs(x) + 0.5 * texel_w);
+    }
+    return width;
+}
+
+/* The mask's widths at the width profile's control points are the parameters
+ * (within 1%), and nothing beyond the outline is vane. */
+static void mask_widths_are_the_parameters(void **state)
+{
+    (void)state;
+    static const char *const names[3] = {"remex_pigeon", "rectrix_notched", "covert_parrot"};
+    for (int s = 0; s < 3; ++s) {
+        plm_species sp = load_preset(names[s]);
+        plm_feather f = textures_of(&sp, 1024);
+        const plm_shape *sh = &sp.shape;
+        double lv = sh->length - sh->calamus_length;
+        for (int side = 0; side < 2; ++side) {
+            const plm_width_profile *w = &sh->width[side];
+            for (int k = 0; k < w->count; ++k) {
+                if (w->t[k] <= sh->plumulaceous + 0.1 || w->t[k] >= 1.0 - sh->tip_length)
+                    continue; /* the fluffy base and the closing tip are not the profile */
+                int j = row_of(&f, sh->calamus_length + w->t[k] * lv);
+                assert_float_equal(mask_width(&f, j, side), w->width[k], 0.01 * w->width[k]);
+            }
+        }
+        plm_feather_free(&f);
+        plm_species_free(&sp);
+    }
+}
+
+/* A notched tip: near the tip the vane is gone at the rachis but present
+ * half way out; rounded and pointed tips close at the rachis. */
+static void notched_tip_is_cut_at_the_rachis(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("rectrix_notched");
+    plm_feather f = textures_of(&sp, 512);
+    const plm_outline *o = &f.outline;
+    double y = o->vane_base + (1.0 - 0.3 * sp.shape.tip_length) * o->vane_length;
+    for (int side = 0; side < 2; ++side) {
+        double s = side ? 1.0 : -1.0, w = sp.shape.width[side].width[sp.shape.width[side].count - 1];
+        assert_int_equal(region_at(&f, s * 0.05 * w, y), PLM_FLAT_BACKGROUND);
+        assert_int_equal(region_at(&f, s * 0.5 * w, y), PLM_FLAT_VANE);
+    }
+    plm_feather_free(&f);
+    plm_species_free(&sp);
+}
+
+/* y on the barb leaving the centre line at psi, at distance a: bisection on
+ * the stream function (psi grows with y along a column). */
+static double y_on_barb(const plm_outline *o, double a, double psi)
+{
+    double lo = 0.0, hi = o->shape.length + 2.0 * o->half_extent;
+    for (int it = 0; it < 100; ++it) {
+        double mid = 0.5 * (lo + hi);
+        if (plm_outline_sample(o, a, mid).barb_origin < psi)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* A split is a gap between barbs: background along the split's barb beyond
+ * 1 - depth of the width, vane beside it and inside the depth; barbs leaving
+ * the rachis in the plumulaceous base are background. */
+static void splits_and_the_fluffy_base_are_background(void **state)
+{
+    (void)state;
+    cJSON *root = cJSON_Parse("{\"shape\": {\"length\": 100, \"calamus_length\": 10, \"plumulaceous\": 0.2,"
+                              "\"splits\": {\"gap\": 1.5, \"list\": [{\"position\": 0.55, \"depth\": 0.5, "
+                              "\"side\": \"right\"}]}}}");
+    plm_species sp;
+    assert_int_equal(plm_species_parse(root, "t.json", &sp, NULL), PLM_OK);
+    cJSON_Delete(root);
+    plm_feather f = textures_of(&sp, 1024);
+    const plm_outline *o = &f.outline;
+    double psi = o->vane_base + 0.55 * o->vane_length;
+    double w = plm_outline_width(o, 1, 0.6);
+    /* At 80% of the width the gap is 1.5 * (0.8 - 0.5) / 0.5 = 0.9 mm wide in psi. */
+    double a = 0.8 * w;
+    assert_int_equal(region_at(&f, a, y_on_barb(o, a, psi)), PLM_FLAT_BACKGROUND);
+    assert_int_equal(region_at(&f, a, y_on_barb(o, a, psi - 0.8)), PLM_FLAT_VANE);
+    assert_int_equal(region_at(&f, a, y_on_barb(o, a, psi + 0.8)), PLM_FLAT_VANE);
+    /* Inside the depth, and on the other side, the split's barb is vane. */
+    assert_int_equal(region_at(&f, 0.3 * w, y_on_barb(o, 0.3 * w, psi)), PLM_FLAT_VANE);
+    assert_int_equal(region_at(&f, -a, y_on_barb(o, -a, psi)), PLM_FLAT_VANE);
+    /* Fluffy base: barbs from the first 20% of the vane. */
+    for (int side = 0; side < 2; ++side) {
+        double x = (side ? 1.0 : -1.0) * 0.5 * plm_outline_width(o, side, 0.3);
+        assert_int_equal(region_at(&f, x, y_on_barb(o, x, o->vane_base + 0.17 * o->vane_length)),
+                         PLM_FLAT_BACKGROUND);
+        assert_int_equal(region_at(&f, x, y_on_barb(o, x, o->vane_base + 0.23 * o->vane_length)), PLM_FLAT_VANE);
+    }
+    plm_feather_free(&f);
+    plm_species_free(&sp);
+}
+
+/* The rachis texels of a row span the rachis width from the parameters. */
+static void rachis_region_has_the_rachis_width(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("remex_pigeon");
+    plm_feather f = textures_of(&sp, 1024);
+    const plm_shape *sh = &sp.shape;
+    double texel_w = 2.0 * f.outline.half_extent / f.texture.width;
+    for (int j = 0; j < f.texture.height; j += 37) {
+        double y = row_y(&f, j);
+        double expect = sh->rachis_base_width +
+                        (sh->rachis_tip_width - sh->rachis_base_width) * pow(y / sh->length, sh->rachis_taper);
+        int count = 0;
+        for (int i = 0; i < f.texture.width; ++i)
+            count += plm_texture_region_of(texel_at(&f.texture, i, j)[2]) == PLM_FLAT_RACHIS;
+        assert_true(fabs(count * texel_w - expect) <= texel_w + 1e-9);
+    }
+    plm_feather_free(&f);
+    plm_species_free(&sp);
+}
+
+static void files_round_trip_and_runs_repeat(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("hackle_pointed");
+    plm_feather f = textures_of(&sp, 256), g = textures_of(&sp, 256);
+    size_t n = (size_t)256 * 256 * 3;
+    assert_memory_equal(f.texture.pixels, g.texture.pixels, n * sizeof(float));
+    assert_memory_equal(f.pigment.pixels, g.pigment.pixels, n * sizeof(float));
+    for (size_t i = 0; i < n; ++i)
+        assert_true(isfinite(f.texture.pixels[i]) && f.texture.pixels[i] >= 0.0f && f.texture.pixels[i] <= 1.0f);
+    const char *files[2] = {"texture_rt.exr", "texture_rt.png"};
+    for (int k = 0; k < 2; ++k) {
+        plm_image back;
+        assert_int_equal(plm_texture_write(files[k], &f.texture, NULL), PLM_OK);
+        assert_int_equal(plm_image_read(files[k], &back.width, &back.height, &back.channels, &back.pixels, NULL),
+                         PLM_OK);
+        assert_int_equal(back.channels, 3);
+        for (size_t i = 0; i < n; ++i)
+            assert_float_equal(back.pixels[i], f.texture.pixels[i], k ? 0.5 / 65535.0 + 1e-7 : 0.0);
+        plm_texture_image_free(&back);
+        remove(files[k]);
+    }
+    plm_error err = {{0}};
+    assert_int_equal(plm_texture_write("texture_rt.jpg", &f.texture, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, ".exr or .png"));
+    plm_feather_free(&f);
+    plm_feather_free(&g);
+    plm_species_free(&sp);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(barb_angle_at_the_rachis_is_the_parameter),
+        cmocka_unit_test(barbs_curve_toward_the_tip_by_the_curvature),
+        cmocka_unit_test(stored_directions_are_tangents_of_the_barbs),
+        cmocka_unit_test(mask_widths_are_the_parameters),
+        cmocka_unit_test(notched_tip_is_cut_at_the_rachis),
+        cmocka_unit_test(splits_and_the_fluffy_base_are_background),
+        cmocka_unit_test(rachis_region_has_the_rachis_width),
+        cmocka_unit_test(files_round_trip_and_runs_repeat),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
