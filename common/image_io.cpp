@@ -35,6 +35,9 @@ extern "C" plm_result plm_image_write(const char *path, int width, int height, i
     if (!out)
         return plm_fail(err, PLM_ERR_IO, "%s: no image writer for this file type (use .exr, .png, .hdr, .tif)", path);
     ImageSpec spec(width, height, channels, oiio_type(type));
+    // OpenImageIO stamps EXR headers with the current time unless told not to;
+    // an empty DateTime keeps the same pixels byte-identical across runs.
+    spec.attribute("DateTime", "");
     if (!out->open(temp, spec)) {
         std::string msg = out->geterror();
         return plm_fail(err, PLM_ERR_IO, "%s: cannot write: %s", path, msg.c_str());
