@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "render/fiber.h"
+#include "tests/fiber_stats.h"
 
 /* A Fig. 7 fiber (REFERENCES.md), checked valid. */
 static plm_fiber_params figure7(int variant)
@@ -27,27 +28,6 @@ static double set_energy(const plm_fiber_lobe_set *set, int channel)
     for (int k = 0; k < set->count; ++k)
         s += channel == 0 ? set->throughput[k].r : channel == 1 ? set->throughput[k].g : set->throughput[k].b;
     return s;
-}
-
-/* Midpoint rule over a (theta, phi) rectangle of eval(wi) cos(theta) dw =
- * eval cos^2 dtheta dphi (channel 0..2), or of pdf dw = pdf cos dtheta dphi (channel 3). */
-static double integrate_sphere(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int channel, double t0,
-                               double t1, double f0, double f1, int nt, int nf)
-{
-    double sum = 0.0, dt = (t1 - t0) / nt, df = (f1 - f0) / nf;
-    for (int i = 0; i < nt; ++i) {
-        double theta = t0 + (i + 0.5) * dt, c = cos(theta);
-        for (int j = 0; j < nf; ++j) {
-            vec3 wi = plm_fiber_direction(theta, f0 + (j + 0.5) * df);
-            if (channel == 3) {
-                sum += plm_fiber_pdf(p, set, wi) * c;
-            } else {
-                rgb e = plm_fiber_eval(p, set, wi);
-                sum += (channel == 0 ? e.r : channel == 1 ? e.g : e.b) * c * c;
-            }
-        }
-    }
-    return sum * dt * df;
 }
 
 /* With sigma_a = 0 the integral of eval cos over the sphere is the lobe
@@ -83,67 +63,6 @@ static void white_furnace(void **state)
                     fail();
                 }
             }
-}
-
-/* Upper tail of the chi-square distribution (Wilson-Hilferty cube-root
- * normal approximation, accurate for the hundreds of degrees of freedom here). */
-static double chi2_p_value(double chi2, int dof)
-{
-    double k = dof, z = (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
-    return 0.5 * erfc(z / sqrt(2.0));
-}
-
-enum { THETA_BINS = 80, PHI_BINS = 160 };
-
-/* pbrt-v4's test: histogram plm_fiber_sample over an 80 x 160 grid of
- * (theta, phi), integrate plm_fiber_pdf over each cell, pool cells expecting
- * fewer than 5 samples, and compare with Pearson's chi-square. Returns the p-value. */
-static double chi_square_p_value(const plm_fiber_params *p, const plm_fiber_lobe_set *set, plm_rng *rng,
-                                 int n_samples)
-{
-    static double observed[THETA_BINS * PHI_BINS], expected[THETA_BINS * PHI_BINS];
-    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i)
-        observed[i] = 0.0;
-    const double dt = PLM_PI / THETA_BINS, df = PLM_TWO_PI / PHI_BINS;
-    for (int s = 0; s < n_samples; ++s) {
-        plm_fiber_sample_rec rec;
-        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
-        assert_true(plm_fiber_sample(p, set, u0, u1, u2, &rec));
-        /* The record agrees with pdf and eval. */
-        double pdf = plm_fiber_pdf(p, set, rec.wi);
-        rgb f = plm_fiber_eval(p, set, rec.wi);
-        double c = sqrt(rec.wi.x * rec.wi.x + rec.wi.y * rec.wi.y);
-        assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
-        assert_true(fabs(rec.weight.g - f.g * c / pdf) <= 1e-9 * (rec.weight.g + 1e-300));
-        double theta = asin(plm_clamp(rec.wi.z, -1.0, 1.0)), phi = atan2(rec.wi.y, rec.wi.x);
-        int it = (int)((theta + 0.5 * PLM_PI) / dt), ip = (int)((phi + PLM_PI) / df);
-        it = it < 0 ? 0 : it >= THETA_BINS ? THETA_BINS - 1 : it;
-        ip = ip < 0 ? 0 : ip >= PHI_BINS ? PHI_BINS - 1 : ip;
-        observed[it * PHI_BINS + ip] += 1.0;
-    }
-    for (int it = 0; it < THETA_BINS; ++it)
-        for (int ip = 0; ip < PHI_BINS; ++ip) {
-            double t0 = -0.5 * PLM_PI + it * dt, f0 = -PLM_PI + ip * df;
-            expected[it * PHI_BINS + ip] = n_samples * integrate_sphere(p, set, 3, t0, t0 + dt, f0, f0 + df, 6, 6);
-        }
-    double chi2 = 0.0, pooled_expected = 0.0, pooled_observed = 0.0;
-    int dof = 0;
-    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i) {
-        if (expected[i] == 0.0 && observed[i] > 0.0)
-            return 0.0; /* samples where the pdf says there can be none */
-        if (expected[i] < 5.0) {
-            pooled_expected += expected[i];
-            pooled_observed += observed[i];
-        } else {
-            chi2 += plm_sqr(observed[i] - expected[i]) / expected[i];
-            ++dof;
-        }
-    }
-    if (pooled_expected > 0.0) {
-        chi2 += plm_sqr(pooled_observed - pooled_expected) / pooled_expected;
-        ++dof;
-    }
-    return chi2_p_value(chi2, dof - 1);
 }
 
 /* The four Fig. 7 fibers at their incidence, and two rough, very elliptical
