@@ -47,18 +47,19 @@ static int option_allowed(int opt, const probe_args *a)
     }
 }
 
-static void print_range_list(const plm_h_range *r, int n)
+static void print_range_list(FILE *out, const plm_h_range *r, int n)
 {
     for (int i = 0; i < n; ++i)
-        printf("%s%.9g:%.9g:%.9g", i ? "|" : "", r[i].hmin, r[i].hmax, r[i].rate);
+        fprintf(out, "%s%.9g:%.9g:%.9g", i ? "|" : "", r[i].hmin, r[i].hmax, r[i].rate);
 }
 
-static void print_full(const double in[3], const plm_masking *m)
+static void print_full(FILE *out, const double in[3], const plm_masking *m)
 {
-    printf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", in[0], in[1], in[2], m->w_barb, m->w_proximal,
-           m->w_distal, m->w_transmission, m->proximal.hmin, m->proximal.hmax, m->distal.hmin, m->distal.hmax);
-    print_range_list(m->barb, m->barb_range_count);
-    printf("\n");
+    fprintf(out, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", in[0], in[1], in[2], m->w_barb,
+            m->w_proximal, m->w_distal, m->w_transmission, m->proximal.hmin, m->proximal.hmax, m->distal.hmin,
+            m->distal.hmax);
+    print_range_list(out, m->barb, m->barb_range_count);
+    fprintf(out, "\n");
 }
 
 /* A view direction given on stdin must have a direction. */
@@ -71,17 +72,18 @@ static int nonzero(const double *v, int n, const char *cmd, long line)
     return 0;
 }
 
-static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_masking_reference *ref)
+/* Answers every line of stdin into out; returns 0, or 1 after a message. */
+static int answer_lines(FILE *out, const probe_args *a, const plm_masking_params *p, plm_masking_reference *ref)
 {
     const char *cmd = "plumage probe masking";
     int n = a->level == LEVEL_FULL ? 3 : 2;
     if (a->level == LEVEL_FULL)
-        printf("x,y,z,w_barb,w_proximal,w_distal,w_transmission,proximal_hmin,proximal_hmax,distal_hmin,distal_hmax,"
-               "barb_ranges\n");
+        fprintf(out, "x,y,z,w_barb,w_proximal,w_distal,w_transmission,proximal_hmin,proximal_hmax,distal_hmin,"
+                     "distal_hmax,barb_ranges\n");
     else if (a->level == LEVEL_BARBULE)
-        printf("dx,dy,transmittance,hmin,hmax\n");
+        fprintf(out, "dx,dy,transmittance,hmin,hmax\n");
     else
-        printf("dx,dy,w_barb,w_proximal,w_distal,w_transmission,barb_ranges\n");
+        fprintf(out, "dx,dy,w_barb,w_proximal,w_distal,w_transmission,barb_ranges\n");
     long line = 0;
     double v[3];
     int got;
@@ -91,14 +93,15 @@ static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_maski
         if (a->level == LEVEL_BARBULE) {
             plm_barbule_masking m;
             plm_masking_barbule(p->barbule_eccentricity, p->barbule_separation, v2(v[0], v[1]), &m);
-            printf("%.9g,%.9g,%.9g,%.9g,%.9g\n", v[0], v[1], m.transmittance, m.hmin, m.hmax);
+            fprintf(out, "%.9g,%.9g,%.9g,%.9g,%.9g\n", v[0], v[1], m.transmittance, m.hmin, m.hmax);
         } else if (a->level == LEVEL_BARB) {
             plm_barb_masking m;
             plm_masking_barb(p->barb_eccentricity, p->barbule_length, p->barbule_inclination, a->t_proximal,
                              a->t_distal, v2(v[0], v[1]), &m);
-            printf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", v[0], v[1], m.w_barb, m.w_proximal, m.w_distal, m.w_transmission);
-            print_range_list(m.barb, m.barb_range_count);
-            printf("\n");
+            fprintf(out, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,", v[0], v[1], m.w_barb, m.w_proximal, m.w_distal,
+                    m.w_transmission);
+            print_range_list(out, m.barb, m.barb_range_count);
+            fprintf(out, "\n");
         } else {
             plm_masking m;
             if (ref) {
@@ -111,10 +114,29 @@ static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_maski
             } else {
                 plm_masking_eval(p, v3(v[0], v[1], v[2]), &m);
             }
-            print_full(v, &m);
+            print_full(out, v, &m);
         }
     }
     return got < 0 ? 1 : 0;
+}
+
+/* The CSV is held in memory and written only once every line has been
+ * answered, so bad input leaves no partial output. */
+static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_masking_reference *ref)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *out = open_memstream(&text, &size);
+    if (!out) {
+        fprintf(stderr, "error: plumage probe masking: out of memory\n");
+        return 1;
+    }
+    int status = answer_lines(out, a, p, ref);
+    fclose(out);
+    if (status == 0 && fwrite(text, 1, size, stdout) != size)
+        status = 1;
+    free(text);
+    return status;
 }
 
 /* ---------------------------------------------------------------- pictures */

@@ -49,38 +49,48 @@ typedef struct masking_agreement {
     int views;
 } masking_agreement;
 
-/* Views on both sides of the vane with polar angle from +-n in
- * [polar_lo, polar_hi] (degrees, grid steps polar_step and azimuth_step). */
-static inline masking_agreement masking_compare(const plm_masking_params *p, const plm_masking_reference *ref,
-                                                void (*model)(const plm_masking_params *, vec3, plm_masking *),
-                                                double polar_lo, double polar_hi, double polar_step,
-                                                double azimuth_step, unsigned samples, uint64_t seed)
+typedef void (*masking_model_fn)(const plm_masking_params *, vec3, plm_masking *);
+
+/* Compares n models with one set of reference rays per view, over views on
+ * both sides of the vane with polar angle from +-n in [polar_lo, polar_hi]
+ * (degrees, grid steps polar_step and azimuth_step). Returns 0 if the
+ * reference failed. */
+static inline int masking_compare_models(const plm_masking_params *p, const plm_masking_reference *ref,
+                                         const masking_model_fn *models, int n, masking_agreement *out,
+                                         double polar_lo, double polar_hi, double polar_step, double azimuth_step,
+                                         unsigned samples, uint64_t seed)
 {
-    masking_agreement a = {{0, 0, 0, 0}, {0, 0, 0, 0}, 0};
+    for (int i = 0; i < n; ++i)
+        out[i] = (masking_agreement){{0, 0, 0, 0}, {0, 0, 0, 0}, 0};
+    int views = 0;
     for (int side = 0; side < 2; ++side)
         for (double polar = polar_lo; polar <= polar_hi + 1e-9; polar += polar_step)
             for (double azimuth = 0.5 * azimuth_step; azimuth < 360.0; azimuth += azimuth_step) {
                 double t = plm_radians(polar), f = plm_radians(azimuth);
                 vec3 wo = v3(sin(t) * cos(f), side ? -cos(t) : cos(t), sin(t) * sin(f));
-                plm_masking m, r;
+                plm_masking r;
                 plm_error err;
-                model(p, wo, &m);
-                if (plm_masking_reference_eval(ref, wo, samples, seed + (uint64_t)a.views, &r, &err) != PLM_OK) {
+                if (plm_masking_reference_eval(ref, wo, samples, seed + (uint64_t)views, &r, &err) != PLM_OK) {
                     fprintf(stderr, "reference failed: %s\n", err.message);
-                    a.views = -1;
-                    return a;
+                    return 0;
                 }
-                double d[4] = {m.w_barb - r.w_barb, m.w_proximal - r.w_proximal, m.w_distal - r.w_distal,
-                               m.w_transmission - r.w_transmission};
-                for (int k = 0; k < 4; ++k) {
-                    a.mean[k] += fabs(d[k]);
-                    a.max[k] = fmax(a.max[k], fabs(d[k]));
+                ++views;
+                for (int i = 0; i < n; ++i) {
+                    plm_masking m;
+                    models[i](p, wo, &m);
+                    double d[4] = {m.w_barb - r.w_barb, m.w_proximal - r.w_proximal, m.w_distal - r.w_distal,
+                                   m.w_transmission - r.w_transmission};
+                    for (int k = 0; k < 4; ++k) {
+                        out[i].mean[k] += fabs(d[k]);
+                        out[i].max[k] = fmax(out[i].max[k], fabs(d[k]));
+                    }
+                    out[i].views++;
                 }
-                a.views++;
             }
-    for (int k = 0; k < 4; ++k)
-        a.mean[k] /= a.views;
-    return a;
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 4; ++k)
+            out[i].mean[k] /= out[i].views;
+    return 1;
 }
 
 static inline void masking_agreement_print(const char *label, const masking_agreement *a)
