@@ -171,20 +171,27 @@ static int in_split_gap(const plm_outline *o, int side, double xi, double psi)
 plm_flat_sample plm_outline_sample_row(const plm_outline *o, const plm_outline_row *row, double x)
 {
     int side = x >= 0.0;
-    double a = fabs(x), y = row->y, t = row->t;
-    barb_rise b = rise(o, row, side, a);
+    double a = fabs(x), y = row->y, t = row->t, w = row->width[side];
     plm_flat_sample s;
+    if (!(t >= 0.0 && t <= 1.0 && a <= w && a >= row->notch[side]) && a > row->r) {
+        /* Outside the outline nothing is rendered: the straight barb at the
+         * rachis angle is enough, and saves the transcendental calls. */
+        s.region = PLM_FLAT_BACKGROUND;
+        s.barb = v2(side ? row->sin_t[side] : -row->sin_t[side], row->sin_t[side] * row->cot_t[side]);
+        s.barb_origin = y - a * row->cot_t[side];
+        return s;
+    }
+    barb_rise b = rise(o, row, side, a);
     double along = 1.0 - b.fy;
     s.barb = v2_normalize(v2(side ? along : -along, b.fa));
     s.barb_origin = y - b.f;
-    s.region = PLM_FLAT_BACKGROUND;
-    double w = row->width[side];
     double t_origin = (s.barb_origin - o->vane_base) / o->vane_length;
     if (y >= 0.0 && y <= o->rachis_end && a <= row->r)
         s.region = PLM_FLAT_RACHIS;
-    else if (t >= 0.0 && t <= 1.0 && a <= w && a >= row->notch[side] && t_origin >= o->shape.plumulaceous &&
-             !in_split_gap(o, side, a / w, s.barb_origin))
+    else if (t_origin >= o->shape.plumulaceous && !in_split_gap(o, side, a / w, s.barb_origin))
         s.region = PLM_FLAT_VANE;
+    else
+        s.region = PLM_FLAT_BACKGROUND;
     return s;
 }
 

@@ -40,7 +40,10 @@ typedef struct plm_outline {
     double slope[2][PLM_WIDTH_POINTS_MAX]; /* monotone cubic tangents of each width profile */
 } plm_outline;
 
-/* A point's classification and barb direction in flat coordinates. */
+/* A point's classification and barb direction in flat coordinates. Inside
+ * the outline (vane, rachis, and the fluffy base and split gaps between
+ * them) both are exact; outside it, where nothing is rendered, they are
+ * those of a straight barb at the row's rachis angle. */
 typedef struct plm_flat_sample {
     plm_flat_region region;
     vec2 barb;          /* unit barb direction (pointing away from the rachis) in flat x, y */

@@ -158,7 +158,9 @@ static void stored_directions_are_tangents_of_the_barbs(void **state)
             double psi0 = plm_outline_sample(o, p0.x, p0.y).barb_origin, drift = 0.0;
             for (int i = 0; i < n; ++i) {
                 vec2 p = plm_outline_flat(o, pts[i].x, pts[i].y);
-                drift = fmax(drift, fabs(plm_outline_sample(o, p.x, p.y).barb_origin - psi0));
+                plm_flat_sample fs = plm_outline_sample(o, p.x, p.y);
+                if (fs.region != PLM_FLAT_BACKGROUND) /* the last step may end just past the edge */
+                    drift = fmax(drift, fabs(fs.barb_origin - psi0));
             }
             assert_true(drift < texel_h);
         }

@@ -22,18 +22,21 @@ static const float *texel(const plm_image *t, vec2 uv)
     return t->pixels + 3 * ((size_t)j * t->width + i);
 }
 
-/* Bilinear barb direction at uv (the field is smooth, so plain bilinear of
- * the decoded vectors is fine for tracing). */
+/* Barb direction at uv as the renderer reads it: bilinear among the four
+ * nearest texels that share the nearest texel's region. */
 static vec2 direction(const plm_image *t, vec2 uv)
 {
     double fx = uv.x * t->width - 0.5, fy = (1.0 - uv.y) * t->height - 0.5;
     int i0 = (int)floor(fx), j0 = (int)floor(fy);
     double ax = fx - i0, ay = fy - j0;
+    plm_flat_region region = plm_texture_region_of(texel(t, uv)[2]);
     vec2 d = v2(0, 0);
     for (int dj = 0; dj < 2; ++dj)
         for (int di = 0; di < 2; ++di) {
             int i = (int)plm_clamp(i0 + di, 0, t->width - 1), j = (int)plm_clamp(j0 + dj, 0, t->height - 1);
             const float *p = t->pixels + 3 * ((size_t)j * t->width + i);
+            if (plm_texture_region_of(p[2]) != region)
+                continue;
             double wgt = (di ? ax : 1.0 - ax) * (dj ? ay : 1.0 - ay);
             d = v2_add(d, v2_scale(v2(2.0 * p[0] - 1.0, 2.0 * p[1] - 1.0), wgt));
         }

@@ -8,7 +8,8 @@
  * so the 3D barb tangent is normalize(cos a dP/du + sin a dP/dv). Texel
  * (0, 0) is the top-left corner at uv = (0, 1): u runs left to right, v from
  * the bottom row (the vane's base) to the top row (the tip). Every texel
- * carries a valid direction, background included.
+ * carries a unit direction; outside the outline (never rendered) it is the
+ * straight barb at the row's rachis angle.
  *
  * The optional pigment image has 3 channels in [0, 1]:
  *   ch0 = bands (1 inside a dark bar; bars follow the barbs),
