@@ -9,9 +9,11 @@
 #include "common/rng.h"
 #include "render/feather_bsdf.h"
 #include "render/scene.h"
+#include "texture/feather.h"
 
 #define MAX_INCLUDE_DEPTH 8
 #define BIG 1e9 /* bound for coordinates and distances */
+#define FEATHER_NAME_MAX 100 /* leaves room for ".rachis" in a PLM_NAME_MAX name */
 
 typedef struct loader {
     plm_scene *scene;
@@ -335,9 +337,11 @@ static plm_result read_masking(const plm_json_reader *r, const cJSON *parent, co
     return rc;
 }
 
-static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
+/* A feather's optics: the feather material's fields other than type and
+ * texture (also a species preset's "optics" block). */
+static plm_result read_feather_optics(const plm_json_reader *r, const cJSON *obj, const char *path,
+                                      const char *const *keys, plm_material *m)
 {
-    static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking", NULL};
     plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
         rc = plm_json_rgb(r, obj, path, "rachis_reflectance", rgb_make(0.8, 0.75, 0.65), 0.0, 1.0, &m->reflectance);
@@ -353,6 +357,13 @@ static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const
         rc = read_fiber(r, obj, path, "barbule", &m->feather->barbule);
     if (rc == PLM_OK)
         rc = read_masking(r, obj, path, &m->feather->masking);
+    return rc;
+}
+
+static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
+{
+    static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking", NULL};
+    plm_result rc = read_feather_optics(r, obj, path, keys, m);
     char texture[PLM_PATH_MAX];
     if (rc == PLM_OK)
         rc = read_path(r, obj, path, "texture", 1, texture);
@@ -459,30 +470,76 @@ static rgb jitter_tint(rgb tint, double jitter, int seed, int index)
     return rgb_make(tint.r * (1.0 - jitter * a), tint.g * (1.0 - jitter * b), tint.b * (1.0 - jitter * c));
 }
 
-static plm_result read_object(const plm_json_reader *r, const cJSON *obj, const char *path, plm_scene *scene)
+/* What an object places: a mesh with a material, or both parts of a
+ * generated feather (its vane with the feather material, its rachis tube). */
+typedef struct object_parts {
+    int count;
+    int mesh[2], material[2];
+} object_parts;
+
+static plm_result read_parts(const plm_json_reader *r, const cJSON *obj, const char *path, const plm_scene *scene,
+                             object_parts *parts)
 {
-    static const char *const keys[] = {"mesh", "material", "transform", "tint", "instances", "tint_jitter",
-                                       "seed", NULL};
-    static const char *const instance_keys[] = {"transform", "tint", NULL};
-    const char *mesh_name = NULL, *material_name = NULL;
-    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    const char *feather = NULL, *mesh_name = NULL, *material_name = NULL;
+    plm_result rc = plm_json_string(r, obj, path, "feather", NULL, &feather);
     if (rc == PLM_OK)
         rc = plm_json_string(r, obj, path, "mesh", NULL, &mesh_name);
     if (rc == PLM_OK)
         rc = plm_json_string(r, obj, path, "material", NULL, &material_name);
-    plm_instance base = {0};
-    base.mesh = mesh_name ? plm_scene_find_mesh(scene, mesh_name) : -1;
-    base.material = material_name ? plm_scene_find_material(scene, material_name) : -1;
+    if (rc != PLM_OK)
+        return rc;
+    if (feather) {
+        if (mesh_name || material_name)
+            return plm_json_fail(r, path, "feather", "give either \"feather\" or \"mesh\" and \"material\"");
+        char name[2][PLM_NAME_MAX];
+        snprintf(name[0], sizeof name[0], "%.100s.vane", feather);
+        snprintf(name[1], sizeof name[1], "%.100s.rachis", feather);
+        parts->count = 2;
+        for (int k = 0; k < 2; ++k) {
+            parts->mesh[k] = plm_scene_find_mesh(scene, name[k]);
+            parts->material[k] = plm_scene_find_material(scene, k ? name[1] : feather);
+        }
+        return parts->mesh[0] < 0 || parts->mesh[1] < 0 || parts->material[0] < 0 || parts->material[1] < 0
+                   ? plm_json_fail(r, path, "feather", "\"%s\" is not defined in \"feathers\"", feather)
+                   : PLM_OK;
+    }
+    parts->count = 1;
+    parts->mesh[0] = mesh_name ? plm_scene_find_mesh(scene, mesh_name) : -1;
+    parts->material[0] = material_name ? plm_scene_find_material(scene, material_name) : -1;
+    rc = read_name_ref(r, obj, path, "mesh", parts->mesh[0], "meshes");
     if (rc == PLM_OK)
-        rc = read_name_ref(r, obj, path, "mesh", base.mesh, "meshes");
+        rc = read_name_ref(r, obj, path, "material", parts->material[0], "materials");
+    return rc;
+}
+
+static plm_result add_parts(const plm_json_reader *r, plm_scene *scene, const object_parts *parts,
+                            const plm_xform *xform, rgb tint)
+{
+    for (int k = 0; k < parts->count; ++k) {
+        plm_instance in = {parts->mesh[k], parts->material[k], *xform, tint};
+        if (plm_scene_add_instance(scene, &in) < 0)
+            return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    return PLM_OK;
+}
+
+static plm_result read_object(const plm_json_reader *r, const cJSON *obj, const char *path, plm_scene *scene)
+{
+    static const char *const keys[] = {"mesh", "material", "feather", "transform", "tint", "instances",
+                                       "tint_jitter", "seed", NULL};
+    static const char *const instance_keys[] = {"transform", "tint", NULL};
+    object_parts parts = {0};
+    plm_xform xform;
+    rgb tint;
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
-        rc = read_name_ref(r, obj, path, "material", base.material, "materials");
+        rc = read_parts(r, obj, path, scene, &parts);
     if (rc == PLM_OK)
-        rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(obj, "transform"), path, &base.xform);
+        rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(obj, "transform"), path, &xform);
     double jitter = 0.0;
     int seed = 0;
     if (rc == PLM_OK)
-        rc = plm_json_rgb(r, obj, path, "tint", rgb_gray(1.0), 0.0, 1.0, &base.tint);
+        rc = plm_json_rgb(r, obj, path, "tint", rgb_gray(1.0), 0.0, 1.0, &tint);
     if (rc == PLM_OK)
         rc = plm_json_number(r, obj, path, "tint_jitter", 0.0, 0.0, 1.0, &jitter);
     if (rc == PLM_OK)
@@ -490,30 +547,26 @@ static plm_result read_object(const plm_json_reader *r, const cJSON *obj, const 
     if (rc != PLM_OK)
         return rc;
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(obj, "instances");
-    if (!list) {
-        base.tint = jitter_tint(base.tint, jitter, seed, 0);
-        return plm_scene_add_instance(scene, &base) < 0 ? plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory")
-                                                         : PLM_OK;
-    }
+    if (!list)
+        return add_parts(r, scene, &parts, &xform, jitter_tint(tint, jitter, seed, 0));
     if (!cJSON_IsArray(list))
         return plm_json_fail(r, path, "instances", "expected an array of {\"transform\", \"tint\"} objects");
     int index = 0;
     for (const cJSON *e = list->child; e; e = e->next, ++index) {
         char epath[256];
         snprintf(epath, sizeof epath, "%s.instances[%d]", path, index);
-        plm_instance inst = base;
         plm_xform local;
+        rgb inst_tint;
         rc = plm_json_check_object(r, e, epath, instance_keys);
         if (rc == PLM_OK)
             rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(e, "transform"), epath, &local);
         if (rc == PLM_OK)
-            rc = plm_json_rgb(r, e, epath, "tint", base.tint, 0.0, 1.0, &inst.tint);
+            rc = plm_json_rgb(r, e, epath, "tint", tint, 0.0, 1.0, &inst_tint);
         if (rc != PLM_OK)
             return rc;
-        inst.xform = plm_xform_compose(&base.xform, &local);
-        inst.tint = jitter_tint(inst.tint, jitter, seed, index);
-        if (plm_scene_add_instance(scene, &inst) < 0)
-            return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+        plm_xform x = plm_xform_compose(&xform, &local);
+        if ((rc = add_parts(r, scene, &parts, &x, jitter_tint(inst_tint, jitter, seed, index))) != PLM_OK)
+            return rc;
     }
     return PLM_OK;
 }
@@ -576,6 +629,86 @@ static plm_result read_materials(const plm_json_reader *r, const cJSON *obj, plm
     return PLM_OK;
 }
 
+/* One generated feather, in memory: meshes NAME.vane and NAME.rachis, the
+ * feather material NAME (the species' optics, the generated texture) and
+ * the diffuse NAME.rachis in the rachis colour. */
+static plm_result generate_feather(const plm_json_reader *r, const cJSON *obj, const char *path, const char *name,
+                                   plm_scene *scene)
+{
+    static const char *const keys[] = {"species", "level", "texture_size", NULL};
+    static const char *const optics_keys[] = {"rachis_reflectance", "barb", "barbule", "masking", NULL};
+    char species_file[PLM_PATH_MAX], vane_name[PLM_NAME_MAX], rachis_name[PLM_NAME_MAX];
+    int level = PLM_FEATHER_DEFAULT_LEVEL, size = 1024;
+    if (strlen(name) > FEATHER_NAME_MAX)
+        return plm_json_fail(r, "feathers", name, "feather names are limited to %d characters", FEATHER_NAME_MAX);
+    snprintf(vane_name, sizeof vane_name, "%.100s.vane", name);
+    snprintf(rachis_name, sizeof rachis_name, "%.100s.rachis", name);
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = read_path(r, obj, path, "species", 1, species_file);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, path, "level", level, 1, 6, &level);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, path, "texture_size", size, 16, 8192, &size);
+    if (rc == PLM_OK && (plm_scene_find_mesh(scene, vane_name) >= 0 || plm_scene_find_material(scene, name) >= 0))
+        rc = plm_json_fail(r, "feathers", name, "is already defined (names must be unique across included files)");
+    if (rc != PLM_OK)
+        return rc;
+    plm_species species;
+    if ((rc = plm_species_load(species_file, &species, r->err)) != PLM_OK) {
+        plm_error_prefix(r->err, "%s: %s.species: ", r->file, path);
+        return rc;
+    }
+    plm_material feather, rachis;
+    memset(&feather, 0, sizeof feather);
+    memset(&rachis, 0, sizeof rachis);
+    snprintf(feather.name, sizeof feather.name, "%.100s", name);
+    snprintf(rachis.name, sizeof rachis.name, "%.100s.rachis", name);
+    plm_json_reader optics_reader = {species_file, r->err};
+    static const cJSON empty = {0};
+    const cJSON *optics = species.optics ? species.optics : &empty;
+    rc = read_feather_optics(&optics_reader, optics, "optics", optics_keys, &feather);
+    plm_feather f;
+    memset(&f, 0, sizeof f);
+    plm_feather_options options = {level, size, size, 0, 0, 1};
+    if (rc == PLM_OK)
+        rc = plm_feather_generate(&species, &options, &f, r->err);
+    if (rc == PLM_OK) {
+        rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
+                                             r->err);
+        f.texture.pixels = NULL; /* owned by the material now */
+    }
+    rachis.reflectance = feather.reflectance;
+    if (rc == PLM_OK && (plm_scene_add_mesh(scene, vane_name, &f.vane) < 0 ||
+                         plm_scene_add_mesh(scene, rachis_name, &f.rachis) < 0 ||
+                         plm_scene_add_material(scene, &rachis) < 0 || plm_scene_add_material(scene, &feather) < 0))
+        rc = plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+    else if (rc != PLM_OK) {
+        plm_feather_texture_free(&feather.texture);
+        free(feather.feather);
+        plm_error_prefix(r->err, "%s: %s: ", r->file, path);
+    }
+    plm_feather_free(&f);
+    plm_species_free(&species);
+    return rc;
+}
+
+static plm_result read_feathers(const plm_json_reader *r, const cJSON *obj, plm_scene *scene)
+{
+    if (!cJSON_IsObject(obj))
+        return plm_json_fail(r, "feathers", NULL, "expected an object of name: {\"species\": file}");
+    for (const cJSON *e = obj->child; e; e = e->next) {
+        char path[256];
+        snprintf(path, sizeof path, "feathers.%s", e->string);
+        plm_result rc = check_new_name(r, "feathers", e->string, -1);
+        if (rc == PLM_OK)
+            rc = generate_feather(r, e, path, e->string, scene);
+        if (rc != PLM_OK)
+            return rc;
+    }
+    return PLM_OK;
+}
+
 static plm_result read_includes(loader *ld, const plm_json_reader *r, const cJSON *inc, int depth)
 {
     if (cJSON_IsString(inc)) {
@@ -600,8 +733,8 @@ static plm_result read_includes(loader *ld, const plm_json_reader *r, const cJSO
 
 static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *root, int depth)
 {
-    static const char *const keys[] = {"include", "camera", "film", "lights", "meshes", "materials", "objects",
-                                       NULL};
+    static const char *const keys[] = {"include", "camera", "film", "lights", "meshes", "materials", "feathers",
+                                       "objects", NULL};
     plm_scene *scene = ld->scene;
     plm_result rc = plm_json_check_object(r, root, "", keys);
     /* The including file's camera and film win over an included file's. */
@@ -637,6 +770,9 @@ static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *
     const cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
     if (rc == PLM_OK && materials)
         rc = read_materials(r, materials, scene);
+    const cJSON *feathers = cJSON_GetObjectItemCaseSensitive(root, "feathers");
+    if (rc == PLM_OK && feathers)
+        rc = read_feathers(r, feathers, scene);
     const cJSON *objects = cJSON_GetObjectItemCaseSensitive(root, "objects");
     if (rc == PLM_OK && objects && !cJSON_IsArray(objects))
         rc = plm_json_fail(r, "objects", NULL, "expected an array of objects");

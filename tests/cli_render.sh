@@ -30,6 +30,23 @@ cmp -s t1.exr s9.exr && fail "another seed changes the image" || pass "another s
 expect_ok "-o alone writes only the PNG" "$PLUMAGE" render ok.json --quiet -o only.png
 if [ -s only.png ] && [ ! -e only.exr ]; then pass "only the PNG"; else fail "only the PNG"; fi
 
+# Feathers generated in memory from a species preset, and a generated feather.json used directly and by include.
+SPECIES="$PLUMAGE_SOURCE_DIR/presets/species/covert_parrot.json"
+cat > gen.json <<JSON
+{"film": {"width": 24, "height": 32, "spp": 2},
+ "feathers": {"f": {"species": "$SPECIES", "level": 1, "texture_size": 64}},
+ "objects": [{"feather": "f", "instances": [{}, {"transform": {"translate": [10, 0, 0]}}]}]}
+JSON
+expect_ok "species named in the scene" "$PLUMAGE" render gen.json --quiet -o gen.png
+[ -s gen.png ] && pass "in-memory feather rendered" || fail "in-memory feather rendered"
+expect_ok "generate a feather" "$PLUMAGE" generate --species "$SPECIES" -o feather --level 1 --texture-size 64
+expect_ok "generated feather.json renders as it is" "$PLUMAGE" render feather/feather.json --quiet --spp 1 -o direct.png
+cat > inc.json <<'JSON'
+{"include": "feather/feather.json", "film": {"width": 20, "height": 20, "spp": 1},
+ "objects": [{"mesh": "vane", "material": "feather", "transform": {"translate": [5, 0, 0]}}]}
+JSON
+expect_ok "generated feather.json through include" "$PLUMAGE" render inc.json --quiet -o inc.png
+
 # Ctrl-C: the image so far is written, the exit status says it was interrupted.
 sed 's/"spp": 4/"spp": 100000/; s/ok\.png/int.png/; s/ok\.exr/int.exr/' ok.json > long.json
 "$PLUMAGE" render long.json --quiet 2>int_err.txt &
@@ -62,6 +79,8 @@ bad_scene "missing mask file" "bad.json: materials.m.mask: .*nope.png" '{"materi
 bad_scene "missing mesh file" "bad.json: meshes.m.file: .*nope.ply" '{"meshes": {"m": {"file": "nope.ply"}}}'
 bad_scene "undefined material" "objects\[0\].material: \"x\" is not defined" \
     '{"meshes": {"q": {"shape": "quad"}}, "objects": [{"mesh": "q", "material": "x"}]}'
+bad_scene "missing species" "bad.json: feathers.f.species: .*nope.json" '{"feathers": {"f": {"species": "nope.json"}}}'
+bad_scene "feather not defined" "objects\[0\].feather: \"g\" is not defined in \"feathers\"" '{"objects": [{"feather": "g"}]}'
 expect_stderr "missing scene file" "nothing.json" "$PLUMAGE" render nothing.json
 expect_stderr "unknown option" "--frobnicate" "$PLUMAGE" render ok.json --frobnicate
 expect_stderr "spp out of range" "--spp.*\[1, " "$PLUMAGE" render ok.json --spp 0
