@@ -295,6 +295,55 @@ static void rachis_region_has_the_rachis_width(void **state)
     plm_species_free(&sp);
 }
 
+/* Point-in-triangle in the plane (either winding). */
+static int inside(double px, double py, const float *a, const float *b, const float *c)
+{
+    double d0 = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+    double d1 = (c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]);
+    double d2 = (a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]);
+    return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+}
+
+/* The smooth vane surface covers every vane texel: laid flat (no bend,
+ * twist or curl), each vane texel centre falls inside some triangle. */
+static void the_vane_mesh_covers_every_vane_texel(void **state)
+{
+    (void)state;
+    static const char *const names[4] = {"remex_pigeon", "covert_parrot", "rectrix_notched", "hackle_pointed"};
+    for (int s = 0; s < 4; ++s) {
+        plm_species sp = load_preset(names[s]);
+        sp.shape.bend_in_plane = sp.shape.bend_out_of_plane = sp.shape.twist = sp.shape.curl = 0.0;
+        plm_feather f;
+        plm_feather_options opt = {.texture_width = 256, .texture_height = 256};
+        assert_int_equal(plm_feather_generate(&sp, &opt, &f, NULL), PLM_OK);
+        int w = f.texture.width, h = f.texture.height;
+        unsigned char *covered = calloc((size_t)w * h, 1);
+        const plm_mesh *m = &f.vane;
+        for (int t = 0; t < m->triangle_count; ++t) {
+            const float *v[3];
+            double lo[2] = {1e30, 1e30}, hi[2] = {-1e30, -1e30};
+            for (int k = 0; k < 3; ++k) {
+                v[k] = m->positions + 3 * m->indices[3 * t + k];
+                for (int c = 0; c < 2; ++c)
+                    lo[c] = fmin(lo[c], v[k][c]), hi[c] = fmax(hi[c], v[k][c]);
+            }
+            for (int i = (int)fmax(0, column_of(&f, lo[0])); i <= column_of(&f, hi[0]) && i < w; ++i)
+                for (int j = (int)fmax(0, row_of(&f, hi[1])); j <= row_of(&f, lo[1]) && j < h; ++j)
+                    if (inside(texel_x(&f, i), row_y(&f, j), v[0], v[1], v[2]))
+                        covered[(size_t)j * w + i] = 1;
+        }
+        int lost = 0;
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i)
+                lost += plm_texture_region_of(texel_at(&f.texture, i, j)[2]) == PLM_FLAT_VANE &&
+                        !covered[(size_t)j * w + i];
+        assert_int_equal(lost, 0);
+        free(covered);
+        plm_feather_free(&f);
+        plm_species_free(&sp);
+    }
+}
+
 static void files_round_trip_and_runs_repeat(void **state)
 {
     (void)state;
@@ -335,6 +384,7 @@ int main(void)
         cmocka_unit_test(notched_tip_is_cut_at_the_rachis),
         cmocka_unit_test(splits_and_the_fluffy_base_are_background),
         cmocka_unit_test(rachis_region_has_the_rachis_width),
+        cmocka_unit_test(the_vane_mesh_covers_every_vane_texel),
         cmocka_unit_test(files_round_trip_and_runs_repeat),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
