@@ -177,15 +177,14 @@ static int segment_hit(const view_segment *g, double ds, double cell_depth, int 
 /* The crossings of cell j by the ray at offset s, nearest to the viewer first. */
 static int cell_hits(const barb_view *v, int j, double s, hit hits[3])
 {
-    int n = 0;
     double ds = s - (double)j * v->dy, cell_depth = (double)j * v->dx;
-    if (fabs(ds) < v->half_width) {
-        hits[0].depth = cell_depth + v->k1 * ds + plm_safe_sqrt(v->k2 * ds * ds + v->inv_qa);
-        hits[0].kind = HIT_BARB;
-        n = 1;
-    }
-    n += segment_hit(&v->distal, ds, cell_depth, HIT_DISTAL, &hits[n]);
+    int n = segment_hit(&v->distal, ds, cell_depth, HIT_DISTAL, &hits[0]);
     n += segment_hit(&v->proximal, ds, cell_depth, HIT_PROXIMAL, &hits[n]);
+    if (fabs(ds) < v->half_width) {
+        /* the barb's entry depth matters only to order it among segments */
+        hits[n].depth = n ? cell_depth + v->k1 * ds + plm_safe_sqrt(v->k2 * ds * ds + v->inv_qa) : 0.0;
+        hits[n++].kind = HIT_BARB;
+    }
     for (int i = 1; i < n; ++i) /* insertion sort, at most three */
         for (int k = i; k > 0 && hits[k].depth > hits[k - 1].depth; --k) {
             hit tmp = hits[k];
@@ -258,6 +257,8 @@ static double wrap(double s, double period, double inv_period) { return s - peri
 static void tidy_barb_ranges(plm_barb_masking *out, double thr[])
 {
     int n = out->barb_range_count;
+    if (n < 2)
+        return;
     for (int i = 1; i < n; ++i)
         for (int k = i; k > 0 && out->barb[k].hmin < out->barb[k - 1].hmin; --k) {
             plm_h_range g = out->barb[k];
