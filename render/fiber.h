@@ -59,7 +59,8 @@ typedef struct plm_fiber_lobe {
 } plm_fiber_lobe;
 
 /* Traces light arriving from view direction wo (unit, pointing away from the
- * fiber) at entry offset h in [-1, 1] (DESIGN 3.2) and fills lobes[0..count)
+ * fiber) at entry offset h in [-1, 1] (DESIGN 3.2; outside, or NaN, gives no
+ * lobes) and fills lobes[0..count)
  * in the order light leaves the cortex (lobe 0 is the surface reflection);
  * returns count <= max_lobes (fewer when light is absorbed, lost along the
  * axis, or exceeds the interaction bound of 16 max_lobes + 64). rng drives
@@ -83,13 +84,13 @@ typedef struct plm_fiber_lobe_set {
     double total;                                 /* sum of mean(A_k); 0 = nothing to sample */
 } plm_fiber_lobe_set;
 
-/* Picks h uniformly in [hmin, hmax] (a one-sample estimate of Eq. 1's
- * h-integral), traces from wo and fills set. Requires p->lobes <=
+/* Picks h uniformly in [hmin, hmax] within [-1, 1] (a one-sample estimate
+ * of Eq. 1's h-integral), traces from wo (unit) and fills set. Requires p->lobes <=
  * PLM_FIBER_SET_MAX_LOBES (otherwise the set is left empty). */
 void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
                        plm_fiber_lobe_set *set);
 
-/* S(wo, wi): eval(wi) cos(theta_i) = sum_k A_k G_M(theta_i - Theta_k) G_N(phi_i - Phi_k) / cos(theta_i),
+/* S(wo, wi) for a unit wi: eval(wi) cos(theta_i) = sum_k A_k G_M(theta_i - Theta_k) G_N(phi_i - Phi_k) / cos(theta_i),
  * so the integral of eval cos over the sphere is sum_k A_k. G_M is a Gaussian
  * normalised on [-pi/2, pi/2], G_N a wrapped Gaussian normalised on the circle. */
 rgb plm_fiber_eval(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi);

@@ -285,14 +285,16 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
 {
     if (inside)
         *inside = rgb_gray(0.0);
-    if (max_lobes < 1 || !(wo.x * wo.x + wo.y * wo.y > 0.0))
-        return 0; /* light along the axis never meets the cross-section */
+    /* Light along the axis never meets the cross-section (below 1e-100 the
+     * entry's quadratic would underflow; that cone has no measure anyway). */
+    if (max_lobes < 1 || !(wo.x * wo.x + wo.y * wo.y > 1e-200) || !(h >= -1.0 && h <= 1.0))
+        return 0;
     ellipse cortex = ellipse_make(0.0, 0.0, 1.0, p->eccentricity);
     ellipse medulla = ellipse_make(p->medulla_ca, p->medulla_cb, p->medulla_a, p->medulla_b);
     const double inv_eta = 1.0 / p->eta, eta2 = p->eta * p->eta; /* leaving: n_t / n_i = 1 / eta */
     int has_medulla = plm_fiber_has_medulla(p);
     fiber_path path;
-    enter(p, &cortex, wo, plm_clamp(h, -1.0, 1.0), &lobes[0], &path);
+    enter(p, &cortex, wo, h, &lobes[0], &path);
     int count = 1, on_cortex = 1;
     const int max_interactions = 16 * max_lobes + 64;
     for (int interaction = 0; count < max_lobes && path.weight > 0.0 && interaction < max_interactions;

@@ -123,6 +123,19 @@ static void no_non_finite_output(void **state)
     plm_rng_seed(&rng, 99, 0);
     int queries = 0;
     const double edge_u[] = {0.0, 0x1.fffffffffffffp-1, 0.5};
+    {   /* non-finite inputs give empty or zero results, never NaN */
+        plm_fiber_params p = figure7(3);
+        plm_fiber_lobe_set set;
+        plm_fiber_prepare(&p, plm_fiber_direction(0.3, 0.2), NAN, 1.0, &rng, &set);
+        assert_int_equal(set.count, 0);
+        plm_fiber_prepare(&p, v3(NAN, 0.0, 0.0), -1.0, 1.0, &rng, &set);
+        assert_int_equal(set.count, 0);
+        plm_fiber_prepare(&p, plm_fiber_direction(0.3, 0.2), -1.0, 1.0, &rng, &set);
+        rgb f = plm_fiber_eval(&p, &set, v3(NAN, 0.0, 1.0));
+        assert_true(rgb_is_black(f) && plm_fiber_pdf(&p, &set, v3(0.0, NAN, 0.0)) == 0.0);
+        plm_fiber_sample_rec rec;
+        assert_int_equal(plm_fiber_sample(&p, &set, NAN, 0.5, 0.5, &rec) && !isfinite(rec.pdf), 0);
+    }
     while (queries < 20000) {
         plm_fiber_params p;
         plm_fiber_params_default(&p);
