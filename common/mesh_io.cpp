@@ -17,7 +17,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <iostream>
 #include <mutex>
 
 extern "C" {
@@ -43,7 +42,7 @@ void quiet_openmesh()
 {
     static std::once_flag once;
     std::call_once(once, [] {
-        omerr().disconnect(std::cerr);
+        omerr().disable(); // (disconnecting std::cerr would leak OpenMesh's target object)
         omlog().disable();
         omout().disable();
     });
