@@ -18,20 +18,23 @@
 #define HALF_PI (0.5 * PLM_PI)
 
 /* Inverse error function: Winitzki's closed-form guess (relative error about
- * 2e-3) polished by Newton steps on erf, or erfc near +-1 where 1 - y is exact. */
+ * 2e-3) polished by two Halley steps (cubic convergence: 1e-8, then below
+ * rounding) on erf, or on erfc near +-1 where 1 - |y| is exact. With
+ * f = erf(x) - y, f' = 2/sqrt(pi) e^(-x^2) and f'' = -2x f', Halley's step is
+ * f / (f' + x f). */
 static double erfinv(double y)
 {
     double one_minus_y2 = (1.0 - y) * (1.0 + y);
     double ln = log(one_minus_y2), a = 0.147, t = 2.0 / (PLM_PI * a) + 0.5 * ln;
     double x = copysign(sqrt(sqrt(t * t - ln / a) - t), y);
     const double two_over_sqrt_pi = 1.12837916709551257390;
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < 2; ++i) {
         double slope = two_over_sqrt_pi * exp(-x * x);
         if (!(slope > 0.0))
             break;
         double sign = y < 0.0 ? -1.0 : 1.0;
         double residual = fabs(y) > 0.5 ? sign * ((1.0 - fabs(y)) - erfc(sign * x)) : erf(x) - y;
-        x -= residual / slope;
+        x -= residual / (slope + x * residual);
     }
     return x;
 }
@@ -77,7 +80,7 @@ static double to_open_symmetric(double u)
 static double sample_gm(double Theta, double beta, double u)
 {
     double s = SQRT2 * beta;
-    double lo = erf((-HALF_PI - Theta) / s), hi = erf((HALF_PI - Theta) / s);
+    double lo = -erf_positive((HALF_PI + Theta) / s), hi = erf_positive((HALF_PI - Theta) / s);
     double y = plm_clamp(lo + u * (hi - lo), -1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON);
     return plm_clamp(Theta + s * erfinv(y), -HALF_PI, HALF_PI);
 }
@@ -107,18 +110,12 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
     set->total = set->cdf[set->count];
 }
 
-/* sum_k A_k G_M G_N and sum_k mean(A_k) G_M G_N at wi, and cos(theta_i);
- * returns 0 at the poles, where both densities' 1/cos(theta) has no meaning. */
-static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi, rgb *f_sum,
-                         double *p_sum, double *cos_theta)
+/* sum_k A_k G_M G_N and sum_k mean(A_k) G_M G_N at (theta, phi). */
+static void detector_sums_at(const plm_fiber_params *p, const plm_fiber_lobe_set *set, double theta, double phi,
+                             rgb *f_sum, double *p_sum)
 {
-    double ct = sqrt(wi.x * wi.x + wi.y * wi.y);
     *f_sum = rgb_gray(0.0);
     *p_sum = 0.0;
-    *cos_theta = ct;
-    if (!(ct > 1e-12))
-        return 0;
-    double theta = atan2(wi.z, ct), phi = atan2(wi.y, wi.x);
     double inv2bm2 = 0.5 / (p->beta_m * p->beta_m), inv2bn2 = 0.5 / (p->beta_n * p->beta_n);
     double gn_scale = 1.0 / (SQRT_2PI * p->beta_n);
     /* With beta_n < pi / cutoff only the unwrapped term of G_N can matter, and
@@ -134,6 +131,21 @@ static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *se
         *f_sum = rgb_add(*f_sum, rgb_scale(set->throughput[k], d));
         *p_sum += (set->cdf[k + 1] - set->cdf[k]) * d;
     }
+}
+
+/* The sums at wi, and cos(theta_i); returns 0 at the poles, where both
+ * densities' 1/cos(theta) has no meaning. */
+static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *set, vec3 wi, rgb *f_sum,
+                         double *p_sum, double *cos_theta)
+{
+    double ct = sqrt(wi.x * wi.x + wi.y * wi.y);
+    *cos_theta = ct;
+    if (!(ct > 1e-12)) {
+        *f_sum = rgb_gray(0.0);
+        *p_sum = 0.0;
+        return 0;
+    }
+    detector_sums_at(p, set, atan2(wi.z, ct), atan2(wi.y, wi.x), f_sum, p_sum);
     return 1;
 }
 
@@ -179,9 +191,12 @@ int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, d
     double phi = remainder(set->phi[k] + SQRT2 * p->beta_n * erfinv(to_open_symmetric(u2)), PLM_TWO_PI);
     /* remainder(): the sampled offset may wrap several times when beta_n is large. */
     vec3 wi = plm_fiber_direction(theta, phi);
+    double ct = sqrt(wi.x * wi.x + wi.y * wi.y), s; /* as eval and pdf compute it from wi */
     rgb f;
-    double s, ct;
-    if (!detector_sums(p, set, wi, &f, &s, &ct) || !(s > 0.0))
+    if (!(ct > 1e-12))
+        return 0;
+    detector_sums_at(p, set, theta, phi, &f, &s); /* the angles eval would recover from wi, to rounding */
+    if (!(s > 0.0))
         return 0;
     rec->wi = wi;
     rec->pdf = s / (set->total * ct);
