@@ -29,6 +29,10 @@ typedef struct plm_hit {
     vec2 uv;
     rgb tint;        /* per-instance colour variation */
     const plm_material *material;
+    /* Set by plm_material_surface: whether the hit lies on a feather's vane,
+     * and there the barb frame (x = b, y = n, z = t; DESIGN 3.1). */
+    int on_vane;
+    frame barb;
 } plm_hit;
 
 typedef struct plm_bsdf_sample_rec {
@@ -64,6 +68,9 @@ static inline int plm_bsdf_sample(const plm_bsdf *b, double u0, double u1, doubl
     return b->ops->sample(b, u0, u1, u2, s);
 }
 
+/* Completes a hit whose geometric fields are set: the material's surface
+ * data (the texture lookups), done once per hit. */
+void plm_material_surface(plm_hit *hit);
 double plm_material_transmission(const plm_hit *hit, vec3 w);
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out);
 

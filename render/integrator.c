@@ -51,22 +51,7 @@ double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist,
     if (!(tmax > 0.0))
         return 1.0;
     ++*rays;
-    if (!w->transmissive)
-        return plm_world_occluded(w, o, d, tmax) ? 0.0 : 1.0;
-    double transmittance = 1.0, t;
-    plm_hit hit;
-    for (int pass = 0; pass < MAX_PASSES; ++pass) {
-        if (pass > 0)
-            ++*rays;
-        if (!plm_world_intersect(w, o, d, tmax, &t, &hit))
-            return transmittance;
-        transmittance *= plm_material_transmission(&hit, v3_neg(d));
-        if (transmittance <= 0.0)
-            return 0.0;
-        o = plm_world_offset(w, &hit, d);
-        tmax -= t;
-    }
-    return 0.0;
+    return plm_world_transmittance(w, o, d, tmax);
 }
 
 /* Radiance an escaped or light-hitting ray brings back, MIS-weighted

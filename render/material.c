@@ -53,34 +53,33 @@ static int feather_sample(const plm_bsdf *b, double u0, double u1, double u2, pl
 
 static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_sample};
 
-/* The barb frame at a feather hit, if it lies on the vane (the texture says
- * where; background texels never get here: the Embree filters drop them). */
-static int vane_frame(const plm_hit *hit, frame *barb)
+void plm_material_surface(plm_hit *hit)
 {
+    /* The texture says where the vane is; background texels never get here
+     * (the Embree filters drop them). */
     const plm_material *m = hit->material;
-    if (plm_feather_texture_region(&m->texture, hit->uv) != PLM_REGION_VANE)
-        return 0;
+    hit->on_vane = 0;
+    if (m->type != PLM_MATERIAL_FEATHER || plm_feather_texture_region(&m->texture, hit->uv) != PLM_REGION_VANE)
+        return;
     vec2 dir = plm_feather_texture_direction(&m->texture, hit->uv);
-    return plm_feather_barb_frame(hit->n, hit->dpdu, hit->dpdv, dir, barb);
+    hit->on_vane = plm_feather_barb_frame(hit->n, hit->dpdu, hit->dpdv, dir, &hit->barb);
 }
 
 double plm_material_transmission(const plm_hit *hit, vec3 w)
 {
     const plm_material *m = hit->material;
-    frame barb;
     if (m->type == PLM_MATERIAL_DIFFUSE)
         return m->transmission;
-    return vane_frame(hit, &barb) ? plm_feather_transmission(m->feather, &barb, w) : 0.0;
+    return hit->on_vane ? plm_feather_transmission(m->feather, &hit->barb, w) : 0.0;
 }
 
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
 {
     const plm_material *m = hit->material;
-    frame barb;
     /* Diffuse materials, and a feather's rachis: the material's reflectance. */
     plm_diffuse_bsdf(hit, wo, rgb_mul(m->reflectance, hit->tint), out);
-    if (m->type == PLM_MATERIAL_FEATHER && vane_frame(hit, &barb)) {
-        plm_feather_prepare(m->feather, &barb, wo, hit->tint, rng, (plm_feather_bsdf *)out->state);
+    if (hit->on_vane) {
+        plm_feather_prepare(m->feather, &hit->barb, wo, hit->tint, rng, (plm_feather_bsdf *)out->state);
         out->ops = &feather_ops;
     }
 }

@@ -18,21 +18,60 @@ static vec2 triangle_uv(const plm_mesh *m, unsigned prim, double b1, double b2)
     return v2((1.0 - b1 - b2) * a.x + b1 * b.x + b2 * c.x, (1.0 - b1 - b2) * a.y + b1 * b.y + b2 * c.y);
 }
 
-/* Intersection and occlusion filter: background texels of the mask are not
- * there at all, so Embree goes on to the next candidate. Hits arrive as
- * structure-of-arrays packets of N; the offsets follow embree3/rtcore_ray.h. */
-static void mask_filter(const struct RTCFilterFunctionNArguments *args)
+/* Every Embree query passes this context; the filters get it back (it
+ * starts with the context Embree expects). A transparent shadow query
+ * collects the surfaces it passes instead of stopping at them. */
+#define MAX_CROSSINGS 64
+typedef struct query_context {
+    struct RTCIntersectContext rtc;
+    const plm_world *world;
+    int transparent;
+    vec3 back;                        /* unit, opposite to the ray's world-space direction */
+    int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
+    double t[MAX_CROSSINGS], transmission[MAX_CROSSINGS];
+    double overflow;                  /* product of the transmissions beyond MAX_CROSSINGS */
+} query_context;
+
+static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, plm_hit *hit);
+
+/* Intersection and occlusion filter. Background texels of the mask are not
+ * there at all, so Embree goes on to the next candidate. In a transparent
+ * shadow query a surface that lets light through is recorded with its
+ * transmission and passed too. Hits arrive as structure-of-arrays packets of
+ * N; the offsets follow embree3/rtcore_ray.h. */
+static void surface_filter(const struct RTCFilterFunctionNArguments *args)
 {
     const plm_prototype *proto = args->geometryUserPtr;
-    const float *hit = (const float *)args->hit;
+    query_context *ctx = (query_context *)args->context;
+    const float *hit = (const float *)args->hit, *ray = (const float *)args->ray;
+    const unsigned *hit_ids = (const unsigned *)args->hit;
     unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
         if (args->valid[i] == 0)
             continue;
-        unsigned prim = ((const unsigned *)hit)[5 * n + i];
-        vec2 uv = triangle_uv(proto->mesh, prim, hit[3 * n + i], hit[4 * n + i]);
-        if (plm_feather_texture_region(proto->mask, uv) == PLM_REGION_BACKGROUND)
+        unsigned prim = hit_ids[5 * n + i], inst = hit_ids[7 * n + i];
+        if (proto->mask && plm_feather_texture_region(proto->mask, triangle_uv(proto->mesh, prim, hit[3 * n + i],
+                                                                                hit[4 * n + i])) ==
+                               PLM_REGION_BACKGROUND) {
             args->valid[i] = 0;
+            continue;
+        }
+        if (!ctx->transparent)
+            continue;
+        plm_hit h;
+        fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], &h);
+        /* In instances the ray arrives in object space; its parameter t is the world one. */
+        double tr = plm_material_transmission(&h, ctx->back);
+        if (!(tr > 0.0))
+            continue; /* opaque: the shadow ray is blocked */
+        if (ctx->crossings < MAX_CROSSINGS) {
+            ctx->t[ctx->crossings] = ray[8 * n + i]; /* a filter sees the candidate's distance in tfar */
+            ctx->transmission[ctx->crossings] = tr;
+        } else {
+            ctx->overflow *= tr;
+        }
+        ctx->crossings++;
+        args->valid[i] = 0;
     }
 }
 
@@ -52,10 +91,10 @@ static plm_result build_prototype(RTCDevice device, plm_prototype *p, plm_error 
     }
     memcpy(v, m->positions, sizeof(float) * 3 * (size_t)m->vertex_count);
     memcpy(t, m->indices, sizeof(unsigned) * 3 * (size_t)m->triangle_count);
-    if (p->mask) {
+    if (p->mask || p->transmissive) {
         rtcSetGeometryUserData(g, p);
-        rtcSetGeometryIntersectFilterFunction(g, mask_filter);
-        rtcSetGeometryOccludedFilterFunction(g, mask_filter);
+        rtcSetGeometryIntersectFilterFunction(g, surface_filter);
+        rtcSetGeometryOccludedFilterFunction(g, surface_filter);
     }
     rtcCommitGeometry(g);
     rtcAttachGeometry(p->rtc, g);
@@ -69,7 +108,12 @@ static const plm_feather_texture *material_mask(const plm_material *m)
     return m->texture.pixels ? &m->texture : NULL;
 }
 
-/* One prototype per distinct (mesh, mask) pair among the instances. */
+static int material_transmits(const plm_material *m)
+{
+    return m->type == PLM_MATERIAL_FEATHER || m->transmission > 0.0;
+}
+
+/* One prototype per distinct (mesh, mask, transmissive) among the instances. */
 static plm_result build_prototypes(plm_world *w, plm_error *err)
 {
     const plm_scene *s = w->scene;
@@ -79,13 +123,16 @@ static plm_result build_prototypes(plm_world *w, plm_error *err)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for %d instances", s->instance_count);
     for (int i = 0; i < s->instance_count; ++i) {
         const plm_mesh *mesh = &s->meshes[s->instances[i].mesh].mesh;
-        const plm_feather_texture *mask = material_mask(&s->materials[s->instances[i].material]);
-        int k = 0;
-        while (k < w->prototype_count && !(w->prototypes[k].mesh == mesh && w->prototypes[k].mask == mask))
+        const plm_material *m = &s->materials[s->instances[i].material];
+        const plm_feather_texture *mask = material_mask(m);
+        int transmissive = material_transmits(m), k = 0;
+        while (k < w->prototype_count && !(w->prototypes[k].mesh == mesh && w->prototypes[k].mask == mask &&
+                                           w->prototypes[k].transmissive == transmissive))
             ++k;
         if (k == w->prototype_count) {
             w->prototypes[k].mesh = mesh;
             w->prototypes[k].mask = mask;
+            w->prototypes[k].transmissive = transmissive;
             plm_result rc = build_prototype(w->device, &w->prototypes[k], err);
             if (rc != PLM_OK)
                 return rc;
@@ -196,7 +243,7 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
                               fmax(fabs(w->bounds_min.z), fabs(w->bounds_max.z))));
     w->epsilon = 1e-5 * fmax(1.0, extent); /* well above float rounding at that magnitude */
     for (int i = 0; i < scene->material_count; ++i)
-        w->transmissive |= scene->materials[i].type == PLM_MATERIAL_FEATHER || scene->materials[i].transmission > 0.0;
+        w->transmissive |= material_transmits(&scene->materials[i]);
     w->lights = calloc((size_t)scene->light_count + 1, sizeof *w->lights);
     if (!w->lights) {
         plm_world_free(w);
@@ -287,6 +334,16 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
     }
     hit->tint = in->tint;
     hit->material = &w->scene->materials[in->material];
+    plm_material_surface(hit);
+}
+
+static void init_context(query_context *ctx, const plm_world *w, int transparent)
+{
+    rtcInitIntersectContext(&ctx->rtc);
+    ctx->world = w;
+    ctx->transparent = transparent;
+    ctx->crossings = 0;
+    ctx->overflow = 1.0;
 }
 
 int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
@@ -295,9 +352,9 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
     make_ray(&rh.ray, o, d, tmax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    rtcIntersect1(w->top, &ctx, &rh);
+    query_context ctx;
+    init_context(&ctx, w, 0);
+    rtcIntersect1(w->top, &ctx.rtc, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return 0;
     *t = rh.ray.tfar;
@@ -305,14 +362,28 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
     return 1;
 }
 
-int plm_world_occluded(const plm_world *w, vec3 o, vec3 d, double tmax)
+double plm_world_transmittance(const plm_world *w, vec3 o, vec3 d, double tmax)
 {
     struct RTCRay r;
     make_ray(&r, o, d, tmax);
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    rtcOccluded1(w->top, &ctx, &r);
-    return r.tfar == -INFINITY;
+    query_context ctx;
+    init_context(&ctx, w, w->transmissive);
+    ctx.back = v3_neg(d);
+    rtcOccluded1(w->top, &ctx.rtc, &r);
+    if (r.tfar == -INFINITY)
+        return 0.0;
+    /* Insertion sort by distance: a handful of crossings. */
+    int n = ctx.crossings < MAX_CROSSINGS ? ctx.crossings : MAX_CROSSINGS;
+    for (int i = 1; i < n; ++i)
+        for (int j = i; j > 0 && ctx.t[j - 1] > ctx.t[j]; --j) {
+            double tt = ctx.t[j], tr = ctx.transmission[j];
+            ctx.t[j] = ctx.t[j - 1], ctx.transmission[j] = ctx.transmission[j - 1];
+            ctx.t[j - 1] = tt, ctx.transmission[j - 1] = tr;
+        }
+    double product = 1.0;
+    for (int i = 0; i < n; ++i)
+        product *= ctx.transmission[i];
+    return product * ctx.overflow;
 }
 
 vec3 plm_world_offset(const plm_world *w, const plm_hit *hit, vec3 d)

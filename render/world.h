@@ -11,10 +11,12 @@
 #include "render/scene.h"
 
 /* A mesh as Embree sees it, with the texture whose background texels its
- * filter functions remove (NULL: nothing is removed). */
+ * filter functions remove (NULL: nothing is removed), and whether its
+ * material lets light through (then transparent shadow queries pass it). */
 typedef struct plm_prototype {
     const plm_mesh *mesh;
     const plm_feather_texture *mask;
+    int transmissive;
     RTCScene rtc;
 } plm_prototype;
 
@@ -46,8 +48,13 @@ void plm_world_free(plm_world *w);
 
 /* Closest surface along o + t d, t in (0, tmax). Fills hit (and *t); returns 0 on a miss. */
 int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit);
-/* Any opaque-or-not surface along the segment: a fast test when no material transmits. */
-int plm_world_occluded(const plm_world *w, vec3 o, vec3 d, double tmax);
+/* Fraction of light passing the segment o + t d, t in (0, tmax): 0 if an
+ * opaque surface is in the way, else the product of the transmissions of
+ * the surfaces crossed (each seen from the segment's origin side: toward -d).
+ * One occlusion query whose filters collect the crossings; they are
+ * multiplied in order of distance, so the result does not depend on the
+ * order Embree finds them in. */
+double plm_world_transmittance(const plm_world *w, vec3 o, vec3 d, double tmax);
 
 /* Camera ray through film position (x, y) in pixels (top-left origin), lens sample (u1, u2). */
 void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u2, vec3 *o, vec3 *d);

@@ -52,6 +52,7 @@ static plm_hit plane_hit(const plm_material *m)
     h.uv = v2(0.5, 0.5);
     h.tint = rgb_gray(1.0);
     h.material = m;
+    plm_material_surface(&h);
     return h;
 }
 

@@ -251,6 +251,36 @@ static void transparent_shadows_agree_with_stochastic_passing(void **state)
     plm_scene_free(&s);
 }
 
+/* Shadow rays through a stack of partly transmissive sheets, instanced and
+ * not, masked and not: the product of their transmissions, up to the first
+ * opaque one; the order the filter meets them in does not matter. */
+static void transmittance_through_stacked_sheets(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    int mesh = add_quad_mesh(&s, "sheet", 2, 2, 0);
+    const double tr[4] = {0.9, 0.5, 0.7, 0.0};
+    for (int i = 0; i < 4; ++i) {
+        char name[16];
+        snprintf(name, sizeof name, "m%d", i);
+        add_object(&s, mesh, add_diffuse(&s, name, rgb_gray(0.5), tr[i]), plm_xform_translate(v3(0, 0, -i)));
+    }
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    assert_int_equal(w.prototype_count, 2); /* transmissive and opaque sheets need different filters */
+    long long rays = 0;
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), 1.5, &rays), 0.9, 1e-15);
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), 3.5, &rays),
+                       0.9 * 0.5 * 0.7, 1e-15);
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &rays), 0.0, 0.0);
+    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, -2.5), v3(0, 0, 1), INFINITY, &rays), 0.7 * 0.5 * 0.9,
+                       1e-15);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
 /* White furnace: a white, partly transmissive, strongly curled surface in a
  * uniform environment of radiance 1 has radiance 1 everywhere, at every
  * number of interreflections (roulette and MIS must stay unbiased). */
@@ -355,12 +385,12 @@ static void mask_filters_remove_background(void **state)
     double t;
     plm_hit hit;
     assert_false(plm_world_intersect(&w, v3(-0.25, 0, 1), v3(0, 0, -1), INFINITY, &t, &hit));
-    assert_false(plm_world_occluded(&w, v3(-0.25, 0, 1), v3(0, 0, -1), 10.0));
+    assert_float_equal(plm_world_transmittance(&w, v3(-0.25, 0, 1), v3(0, 0, -1), 10.0), 1.0, 0.0);
     assert_true(plm_world_intersect(&w, v3(0.25, 0, 1), v3(0, 0, -1), INFINITY, &t, &hit));
     assert_float_equal(t, 1.0, 1e-5);
     assert_float_equal(hit.uv.x, 0.75, 1e-5);
     assert_float_equal(hit.uv.y, 0.5, 1e-5);
-    assert_true(plm_world_occluded(&w, v3(0.25, 0, 1), v3(0, 0, -1), 10.0));
+    assert_float_equal(plm_world_transmittance(&w, v3(0.25, 0, 1), v3(0, 0, -1), 10.0), 0.0, 0.0);
     /* Behind the first instance, the second one is hit on its vane half. */
     assert_true(plm_world_intersect(&w, v3(0.25, 0, -1), v3(0, 0, -1), INFINITY, &t, &hit));
     assert_float_equal(hit.p.z, -2.0, 1e-5);
@@ -434,6 +464,7 @@ int main(void)
         cmocka_unit_test(estimators_agree),
         cmocka_unit_test(transparent_shadows_agree_with_stochastic_passing),
         cmocka_unit_test(white_furnace),
+        cmocka_unit_test(transmittance_through_stacked_sheets),
         cmocka_unit_test(bit_identical_at_any_thread_count),
         cmocka_unit_test(cancelled_render_keeps_what_it_took),
         cmocka_unit_test(mask_filters_remove_background),
