@@ -7,6 +7,7 @@
 #include "common/json.h"
 #include "common/rng.h"
 #include "common/vec.h"
+#include "generate/outline.h"
 
 void plm_species_default(plm_species *s)
 {
@@ -342,7 +343,9 @@ plm_result plm_species_validate(const plm_species *s, const char *file, plm_erro
             return plm_json_fail(&r, path, "depth", "%g is beyond the vane: allowed (0, 1], a fraction of the "
                                  "vane width", sp->depth);
     }
-    return PLM_OK;
+    /* What only the barb field can tell: barbs that would fold over. */
+    plm_outline o;
+    return plm_outline_init(&o, sh, r.file, err);
 }
 
 void plm_species_free(plm_species *s)

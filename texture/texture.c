@@ -88,6 +88,13 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
             vec2 p = plm_outline_flat(o, (i + 0.5) / width, v);
             plm_flat_sample s = plm_outline_sample_row(o, &row, p.x);
             vec2 d = v2_normalize(v2(s.barb.x * su, s.barb.y * sv));
+            if (!isfinite(d.x) || !isfinite(d.y)) {
+                plm_texture_image_free(feather);
+                if (pigment)
+                    plm_texture_image_free(pigment);
+                return plm_fail(err, PLM_ERR_INTERNAL, "texture: non-finite barb direction at texel (%d, %d)", i,
+                                j);
+            }
             float *px = feather->pixels + 3 * ((size_t)j * width + i);
             px[0] = (float)(0.5 * (d.x + 1.0));
             px[1] = (float)(0.5 * (d.y + 1.0));
