@@ -103,7 +103,7 @@ static int run(int argc, char **argv, int textures_only)
         "species field."};
     const plm_command_help texture_help = {
         "plumage texture --species FILE -o DIR [--texture-size N] [--format F] [--no-pigment]",
-        "Writes feather.exr/.png (barb direction and regions) and pigment.exr/.png for a species, as 'plumage "
+        "Writes texture.exr/.png (barb direction and regions) and pigment.exr/.png for a species, as 'plumage "
         "generate' does, without the meshes or the scene."};
     const plm_command_help *help = textures_only ? &texture_help : &generate_help;
     const char *positional[64];

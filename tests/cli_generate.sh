@@ -14,13 +14,14 @@ for s in "$SPECIES"/*.json; do
     name=$(basename "$s" .json)
     expect_ok "generate $name" "$PLUMAGE" generate --species "$s" -o "out_$name" --texture-size 128 --obj
     missing=""
-    for f in vane.ply rachis.ply vane.obj rachis.obj feather.exr feather.png pigment.exr pigment.png feather.json; do
+    for f in vane.ply rachis.ply vane.obj rachis.obj texture.exr texture.png pigment.exr pigment.png feather.json; do
         [ -s "out_$name/$f" ] || missing="$missing $f"
     done
     if [ -z "$missing" ]; then pass "$name files"; else fail "$name files missing:$missing"; fi
 done
 if grep -q '"type":[[:space:]]*"feather"' out_remex_pigeon/feather.json &&
-   grep -q '"vane.ply"' out_remex_pigeon/feather.json && grep -q '"camera"' out_remex_pigeon/feather.json; then
+   grep -q '"texture.exr"' out_remex_pigeon/feather.json && grep -q '"vane.ply"' out_remex_pigeon/feather.json &&
+   grep -q '"camera"' out_remex_pigeon/feather.json; then
     pass "feather.json names the meshes, the feather material and a camera"
 else
     fail "feather.json content: $(head -c 300 out_remex_pigeon/feather.json)"
@@ -29,16 +30,16 @@ fi
 # Same species, same bytes (EXR: OpenImageIO stamps the header with the
 # write time, so the comparison starts after the 512-byte header).
 expect_ok "generate again" "$PLUMAGE" generate --species "$SPECIES/covert_parrot.json" -o again --texture-size 128 --obj
-for f in vane.ply rachis.ply vane.obj feather.png pigment.png feather.json; do
+for f in vane.ply rachis.ply vane.obj texture.png pigment.png feather.json; do
     if cmp -s "out_covert_parrot/$f" "again/$f"; then pass "same bytes $f"; else fail "bytes differ: $f"; fi
 done
-for f in feather.exr pigment.exr; do
+for f in texture.exr pigment.exr; do
     if cmp -s -i 512 "out_covert_parrot/$f" "again/$f"; then pass "same pixels $f"; else fail "pixels differ: $f"; fi
 done
 
 # Textures alone, one format.
 expect_ok "texture command" "$PLUMAGE" texture --species "$SPECIES/remex_pigeon.json" -o tex --texture-size 64 --format png
-if [ -s tex/feather.png ] && [ -s tex/pigment.png ] && [ ! -e tex/feather.exr ] && [ ! -e tex/vane.ply ]; then
+if [ -s tex/texture.png ] && [ -s tex/pigment.png ] && [ ! -e tex/texture.exr ] && [ ! -e tex/vane.ply ]; then
     pass "texture writes only the PNG textures"
 else
     fail "texture outputs: $(ls tex 2>&1)"

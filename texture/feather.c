@@ -79,7 +79,7 @@ plm_result plm_feather_write_textures(const plm_feather *f, const char *dir, con
         files = &def;
     plm_result rc = plm_make_dirs(dir, err);
     if (rc == PLM_OK)
-        rc = write_image_pair(dir, "feather", &f->texture, files, err);
+        rc = write_image_pair(dir, "texture", &f->texture, files, err);
     if (rc == PLM_OK)
         rc = write_image_pair(dir, "pigment", &f->pigment, files, err);
     return rc;
@@ -124,7 +124,6 @@ static cJSON *scene_json(const plm_feather *f, const plm_species *species, const
     cJSON_AddNumberToObject(film, "width", width);
     cJSON_AddNumberToObject(film, "height", height);
     cJSON_AddNumberToObject(film, "spp", 64);
-    cJSON_AddStringToObject(film, "png", "feather_render.png");
     cJSON *lights = cJSON_AddArrayToObject(root, "lights");
     cJSON *sky = cJSON_CreateObject(), *sun = cJSON_CreateObject();
     cJSON_AddStringToObject(sky, "type", "environment");
@@ -191,7 +190,7 @@ plm_result plm_feather_write(const plm_feather *f, const plm_species *species, c
         rc = plm_feather_write_textures(f, dir, files, err);
     if (rc != PLM_OK || !f->texture.pixels)
         return rc;
-    cJSON *scene = scene_json(f, species, files->no_exr ? "feather.png" : "feather.exr");
+    cJSON *scene = scene_json(f, species, files->no_exr ? "texture.png" : "texture.exr");
     char *text = scene ? cJSON_Print(scene) : NULL;
     cJSON_Delete(scene);
     if (!text)

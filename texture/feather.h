@@ -47,8 +47,10 @@ typedef struct plm_feather_files {
     int no_png;  /* skip the 16-bit PNG copies */
 } plm_feather_files;
 
-/* Writes into dir (created if missing): vane.ply, rachis.ply, feather.exr and
- * feather.png, pigment.exr and pigment.png (when present), and feather.json,
+/* Writes into dir (created if missing): vane.ply, rachis.ply, texture.exr and
+ * texture.png (the feather texture), pigment.exr and pigment.png (when
+ * present), and feather.json (rendering it writes feather.exr/.png into the
+ * working directory, hence the texture's other name),
  * a scene for `plumage render`. Each file is written atomically. */
 plm_result plm_feather_write(const plm_feather *f, const plm_species *species, const char *dir,
                              const plm_feather_files *files, plm_error *err);
