@@ -47,17 +47,22 @@ void plm_fiber_params_figure7(plm_fiber_params *p, int variant)
 
 static int in_range(double v, double lo, double hi) { return v >= lo && v <= hi; } /* false for NaN */
 
-/* Largest value of the cortex's implicit function x^2 + (y/e)^2 on the
- * medulla's boundary: below 1 means the medulla is strictly inside. A dense
- * scan brackets the maximum, golden-section search pins it down. */
+/* The cortex's implicit function x^2 + (y/e)^2 at the medulla's boundary
+ * point of parameter t: below 1 inside the cortex. */
+static double cortex_level_at_medulla(const plm_fiber_params *p, double t)
+{
+    return plm_sqr(p->medulla_ca + p->medulla_a * cos(t)) +
+           plm_sqr((p->medulla_cb + p->medulla_b * sin(t)) / p->eccentricity);
+}
+
+/* Its maximum over the medulla's boundary: a dense scan brackets it and a
+ * golden-section search pins it down. */
 static double medulla_max_cortex_level(const plm_fiber_params *p)
 {
-    double e2 = p->eccentricity * p->eccentricity;
-#define LEVEL(t) (plm_sqr(p->medulla_ca + p->medulla_a * cos(t)) + plm_sqr(p->medulla_cb + p->medulla_b * sin(t)) / e2)
     const int n = 720;
     double best_t = 0.0, best = -1.0;
     for (int i = 0; i < n; ++i) {
-        double t = PLM_TWO_PI * i / n, v = LEVEL(t);
+        double t = PLM_TWO_PI * i / n, v = cortex_level_at_medulla(p, t);
         if (v > best) {
             best = v;
             best_t = t;
@@ -67,14 +72,12 @@ static double medulla_max_cortex_level(const plm_fiber_params *p)
     double lo = best_t - PLM_TWO_PI / n, hi = best_t + PLM_TWO_PI / n;
     for (int i = 0; i < 80; ++i) {
         double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
-        if (LEVEL(a) > LEVEL(b))
+        if (cortex_level_at_medulla(p, a) > cortex_level_at_medulla(p, b))
             hi = b;
         else
             lo = a;
     }
-    double refined = LEVEL(0.5 * (lo + hi));
-#undef LEVEL
-    return refined > best ? refined : best;
+    return fmax(best, cortex_level_at_medulla(p, 0.5 * (lo + hi)));
 }
 
 static plm_result check(plm_error *err, const char *field, double v, double lo, double hi)

@@ -6,6 +6,7 @@
 #include <cmocka.h>
 
 #include <stdio.h>
+#include <string.h>
 
 #include "render/fiber.h"
 
@@ -327,6 +328,54 @@ static void segments_to_the_medulla_are_attenuated(void **state)
     assert_true(shortest < 0.85); /* nearly radial bounces occur */
 }
 
+/* Every field is range-checked with its name in the message, and the medulla
+ * must lie strictly inside the cortex, decided to about 1e-9. */
+static void validation_names_field_and_range(void **state)
+{
+    (void)state;
+    struct { const char *field; double bad; } cases[] = {
+        {"eccentricity", 0.0}, {"eta", 0.9}, {"beta_m", 0.0}, {"beta_n", 2.0}, {"medulla_a", -0.1}, {"medulla_cb", NAN},
+    };
+    for (int i = 0; i < 6; ++i) {
+        plm_fiber_params p;
+        plm_fiber_params_default(&p);
+        double *fields[6] = {&p.eccentricity, &p.eta, &p.beta_m, &p.beta_n, &p.medulla_a, &p.medulla_cb};
+        *fields[i] = cases[i].bad;
+        plm_error err;
+        assert_int_equal(plm_fiber_params_validate(&p, &err), PLM_ERR_INVALID);
+        assert_non_null(strstr(err.message, cases[i].field));
+        assert_non_null(strstr(err.message, "range"));
+    }
+    plm_fiber_params p;
+    plm_fiber_params_default(&p);
+    p.sigma_a.g = -1.0;
+    plm_error err;
+    assert_int_equal(plm_fiber_params_validate(&p, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "sigma_a"));
+    p.sigma_a.g = 0.0;
+    p.lobes = 1001;
+    assert_int_equal(plm_fiber_params_validate(&p, &err), PLM_ERR_INVALID);
+    p.lobes = 5;
+    const double eps = 1e-6;
+    struct { double e, a, b, ca, cb; int inside; } medullas[] = {
+        {1.0, 0.5, 0.5, 0.5 - eps, 0.0, 1},  {1.0, 0.5, 0.5, 0.5 + eps, 0.0, 0},
+        {1.6, 0.3, 0.3, 0.0, 1.3 - eps, 1},  {1.6, 0.3, 0.3, 0.0, 1.3 + eps, 0},
+        {1.6, 0.6, 0.6, -0.1, 0.1, 1},       {0.5, 0.3, 0.5 - eps, 0.0, 0.0, 1},
+        {0.5, 0.3, 0.5 + eps, 0.0, 0.0, 0},  {1.0, 0.5, 0.0, 0.0, 0.0, 0},
+    };
+    for (int i = 0; i < 8; ++i) {
+        p.eccentricity = medullas[i].e;
+        p.medulla_a = medullas[i].a;
+        p.medulla_b = medullas[i].b;
+        p.medulla_ca = medullas[i].ca;
+        p.medulla_cb = medullas[i].cb;
+        plm_result r = plm_fiber_params_validate(&p, &err);
+        assert_int_equal(r, medullas[i].inside ? PLM_OK : PLM_ERR_INVALID);
+        if (r != PLM_OK)
+            assert_non_null(strstr(err.message, "medulla"));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -338,6 +387,7 @@ int main(void)
         cmocka_unit_test(absorption_only_darkens),
         cmocka_unit_test(black_medulla_only_removes_energy),
         cmocka_unit_test(segments_to_the_medulla_are_attenuated),
+        cmocka_unit_test(validation_names_field_and_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
