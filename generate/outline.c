@@ -183,12 +183,12 @@ plm_flat_sample plm_outline_sample_row(const plm_outline *o, const plm_outline_r
     }
     barb_rise b = rise(o, row, side, a);
     double along = 1.0 - b.fy;
-    s.barb = v2_normalize(v2(side ? along : -along, b.fa));
+    s.barb = v2(side ? along : -along, b.fa); /* normalised by the caller */
     s.barb_origin = y - b.f;
-    double t_origin = (s.barb_origin - o->vane_base) / o->vane_length;
     if (y >= 0.0 && y <= o->rachis_end && a <= row->r)
         s.region = PLM_FLAT_RACHIS;
-    else if (t_origin >= o->shape.plumulaceous && !in_split_gap(o, side, a / w, s.barb_origin))
+    else if (s.barb_origin >= o->vane_base + o->shape.plumulaceous * o->vane_length &&
+             (o->shape.split_count == 0 || !in_split_gap(o, side, a / w, s.barb_origin)))
         s.region = PLM_FLAT_VANE;
     else
         s.region = PLM_FLAT_BACKGROUND;
@@ -199,7 +199,9 @@ plm_flat_sample plm_outline_sample(const plm_outline *o, double x, double y)
 {
     plm_outline_row row;
     plm_outline_row_at(o, y, &row);
-    return plm_outline_sample_row(o, &row, x);
+    plm_flat_sample s = plm_outline_sample_row(o, &row, x);
+    s.barb = v2_normalize(s.barb);
+    return s;
 }
 
 double plm_outline_mesh_extent(const plm_outline *o, int side, double t)

@@ -68,7 +68,8 @@ double plm_outline_mesh_extent(const plm_outline *o, int side, double t);
 plm_flat_sample plm_outline_sample(const plm_outline *o, double x, double y);
 
 /* The same, split so that what depends only on y is computed once per row
- * of texels. */
+ * of texels; here `barb` has the right direction but not unit length (the
+ * texture rescales it to uv units and normalises once). */
 typedef struct plm_outline_row {
     double y, t;               /* flat height and vane position */
     double r, dr;              /* rachis half-width and its slope */
