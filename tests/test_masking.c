@@ -227,40 +227,68 @@ static void barbule_frames_are_orthonormal(void **state)
     }
 }
 
-/* Along fine sweeps of the view the weights move by a small amount per step;
- * the only jump is crossing the vane plane (y = 0), where the view goes from
- * one side of the vane to the other, so the sweeps stay off it. */
+static vec3 sweep_view(int sweep_polar, double fixed, int upper, double t)
+{
+    double polar = sweep_polar ? t : fixed, azimuth = sweep_polar ? fixed : t;
+    return v3(sin(polar) * cos(azimuth), upper ? cos(polar) : -cos(polar), sin(polar) * sin(azimuth));
+}
+
+static double weight_change(const plm_masking *a, const plm_masking *b)
+{
+    return fmax(fmax(fabs(a->w_barb - b->w_barb), fabs(a->w_proximal - b->w_proximal)),
+                fmax(fabs(a->w_distal - b->w_distal), fabs(a->w_transmission - b->w_transmission)));
+}
+
+/* The largest change of any weight between neighbouring views along a
+ * sweep of the polar angle from the normal (0 to 87 degrees, fixed azimuth)
+ * or of the azimuth (fixed polar angle), on one side, 0.05 degrees apart.
+ * Where a step changes a weight by more than `bound`, that step is looked at
+ * again 100 times finer: a steep but continuous change shrinks there, a jump
+ * does not. */
+static double largest_weight_step(const plm_masking_params *p, int sweep_polar, double fixed, int upper, double bound)
+{
+    const double step = plm_radians(0.05), end = sweep_polar ? plm_radians(87.0) : PLM_TWO_PI;
+    plm_masking prev = {0};
+    double worst = 0.0;
+    for (double t = 0.0; t < end; t += step) {
+        plm_masking m;
+        plm_masking_eval(p, sweep_view(sweep_polar, fixed, upper, t), &m);
+        double change = t > 0.0 ? weight_change(&m, &prev) : 0.0;
+        if (change > bound) {
+            change = 0.0;
+            plm_masking a = prev;
+            for (int i = 1; i <= 100; ++i) {
+                plm_masking b;
+                plm_masking_eval(p, sweep_view(sweep_polar, fixed, upper, t - step + step * i / 100.0), &b);
+                change = fmax(change, weight_change(&a, &b));
+                a = b;
+            }
+        }
+        worst = fmax(worst, change);
+        prev = m;
+    }
+    return worst;
+}
+
+/* Along fine sweeps of the view the weights move by a small amount per step
+ * (a steep change, such as a barbule row turning opaque, is followed finer).
+ * The one visibility event where they jump is crossing the vane plane
+ * (y = 0: the view changes side), so the sweeps stay off it; grazing a
+ * barbule row's plane only flips that set's h-interval, not the weights. */
 static void weights_are_continuous_along_view_sweeps(void **state)
 {
     (void)state;
     plm_rng rng;
     plm_rng_seed(&rng, 15, 0);
-    const double step = plm_radians(0.05);
     for (int sweep = 0; sweep < 60; ++sweep) {
         plm_masking_params p = random_params(&rng);
-        double azimuth = uniform(&rng, 0.0, PLM_TWO_PI);
-        int upper = sweep % 2 == 0;
-        plm_masking prev = {0};
-        int have_prev = 0;
-        double worst = 0.0;
-        /* inclination from the normal, 0 to 87 degrees, on one side */
-        for (double incl = 0.0; incl < plm_radians(87.0); incl += step) {
-            vec3 wo = v3(sin(incl) * cos(azimuth), upper ? cos(incl) : -cos(incl), sin(incl) * sin(azimuth));
-            plm_masking m;
-            plm_masking_eval(&p, wo, &m);
-            if (have_prev) {
-                double jumps[4] = {m.w_barb - prev.w_barb, m.w_proximal - prev.w_proximal,
-                                   m.w_distal - prev.w_distal, m.w_transmission - prev.w_transmission};
-                for (int k = 0; k < 4; ++k)
-                    worst = fmax(worst, fabs(jumps[k]));
-            }
-            prev = m;
-            have_prev = 1;
-        }
+        int sweep_polar = sweep % 2, upper = (sweep / 2) % 2;
+        double fixed = sweep_polar ? uniform(&rng, 0.0, PLM_TWO_PI) : uniform(&rng, 0.01, plm_radians(85.0));
+        double worst = largest_weight_step(&p, sweep_polar, fixed, upper, 0.02);
         if (worst > 0.02)
-            fprintf(stderr, "sweep %d: largest step %g (e_b %g e_bb %g l %g d %g phi %g theta %g azimuth %g)\n", sweep,
+            fprintf(stderr, "sweep %d: largest step %g (e_b %g e_bb %g l %g d %g phi %g theta %g fixed %g)\n", sweep,
                     worst, p.barb_eccentricity, p.barbule_eccentricity, p.barbule_length, p.barbule_separation,
-                    plm_degrees(p.barbule_rotation), plm_degrees(p.barbule_inclination), plm_degrees(azimuth));
+                    plm_degrees(p.barbule_rotation), plm_degrees(p.barbule_inclination), plm_degrees(fixed));
         assert_true(worst <= 0.02);
     }
 }
