@@ -29,10 +29,8 @@ plm_result plm_vane_mesh(const plm_outline *o, int level, plm_mesh *out, plm_err
  * outward normals (no uvs: the whole tube is rachis). */
 plm_result plm_rachis_mesh(const plm_outline *o, int level, plm_mesh *out, plm_error *err);
 
-/* Cage sizes (quads): the vane has VANE_COLUMNS across and VANE_ROWS along,
- * the tube RACHIS_RING around and RACHIS_ROWS along. */
-#define PLM_VANE_COLUMNS 8
-#define PLM_VANE_ROWS 24
+/* Cage sizes (quads): the vane has PLM_VANE_COLUMNS across and PLM_VANE_ROWS
+ * along (outline.h), the tube RACHIS_RING around and RACHIS_ROWS along. */
 #define PLM_RACHIS_RING 8
 #define PLM_RACHIS_ROWS 24
 

@@ -208,7 +208,7 @@ double plm_outline_mesh_extent(const plm_outline *o, int side, double t)
 {
     /* The widest outline within one cage row either side, so the smooth limit
      * surface (which rounds the cage) still covers every vane texel. */
-    const double window = 1.0 / 24.0;
+    const double window = 1.0 / PLM_VANE_ROWS;
     double w = 0.0;
     for (int k = -8; k <= 8; ++k)
         w = fmax(w, plm_outline_width(o, side, plm_clamp(t + window * k / 8.0, 0.0, 1.0)));

@@ -24,6 +24,11 @@
 #include "common/vec.h"
 #include "generate/species.h"
 
+/* The vane cage's quads across (both vanes) and along; the mesh extent
+ * below allows for the smoothing of one row. */
+#define PLM_VANE_COLUMNS 8
+#define PLM_VANE_ROWS 24
+
 typedef enum plm_flat_region {
     PLM_FLAT_BACKGROUND = 0,
     PLM_FLAT_RACHIS = 1,
