@@ -49,6 +49,16 @@ typedef struct masking_agreement {
     int views;
 } masking_agreement;
 
+/* The reference with default options, or NULL after printing why not. */
+static inline plm_masking_reference *masking_reference_or_null(const plm_masking_params *p)
+{
+    plm_masking_reference *ref = NULL;
+    plm_error err;
+    if (plm_masking_reference_create(p, NULL, &ref, &err) != PLM_OK)
+        fprintf(stderr, "%s\n", err.message);
+    return ref;
+}
+
 typedef void (*masking_model_fn)(const plm_masking_params *, vec3, plm_masking *);
 
 /* Compares n models with one set of reference rays per view, over views on

@@ -27,10 +27,7 @@ static plm_masking_params params(double e_b, double e_bb, double l, double delta
 
 static plm_masking_reference *make_reference(const plm_masking_params *p)
 {
-    plm_masking_reference *ref = NULL;
-    plm_error err;
-    if (plm_masking_reference_create(p, NULL, &ref, &err) != PLM_OK)
-        fprintf(stderr, "%s\n", err.message);
+    plm_masking_reference *ref = masking_reference_or_null(p);
     assert_non_null(ref);
     return ref;
 }
