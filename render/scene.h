@@ -112,6 +112,13 @@ int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance);
 int plm_scene_find_mesh(const plm_scene *scene, const char *name);
 int plm_scene_find_material(const plm_scene *scene, const char *name);
 
+/* Generates a feather from a species preset in memory (generate/, texture/)
+ * and adds meshes NAME.vane and NAME.rachis, the feather material NAME (the
+ * species' "optics" block, the generated texture) and the diffuse material
+ * NAME.rachis in the rachis colour. level 1..6, texture_size >= 16. */
+plm_result plm_scene_add_species_feather(plm_scene *scene, const char *name, const char *species_file, int level,
+                                         int texture_size, plm_error *err);
+
 /* Built-in shapes. A quad of size (w, h) in the xy plane centred at the origin,
  * normal +z, u along +x and v along +y; `curl` bends it into a cylinder about
  * the y axis with that curvature (1/radius, 0 = flat), keeping its width. */

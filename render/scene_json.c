@@ -629,20 +629,61 @@ static plm_result read_materials(const plm_json_reader *r, const cJSON *obj, plm
     return PLM_OK;
 }
 
-/* One generated feather, in memory: meshes NAME.vane and NAME.rachis, the
- * feather material NAME (the species' optics, the generated texture) and
- * the diffuse NAME.rachis in the rachis colour. */
+plm_result plm_scene_add_species_feather(plm_scene *scene, const char *name, const char *species_file, int level,
+                                         int texture_size, plm_error *err)
+{
+    static const char *const optics_keys[] = {"rachis_reflectance", "barb", "barbule", "masking", NULL};
+    char vane_name[PLM_NAME_MAX], rachis_name[PLM_NAME_MAX];
+    if (strlen(name) > FEATHER_NAME_MAX)
+        return plm_fail(err, PLM_ERR_INVALID, "feather name \"%.40s...\": names are limited to %d characters", name,
+                        FEATHER_NAME_MAX);
+    snprintf(vane_name, sizeof vane_name, "%.100s.vane", name);
+    snprintf(rachis_name, sizeof rachis_name, "%.100s.rachis", name);
+    if (plm_scene_find_mesh(scene, vane_name) >= 0 || plm_scene_find_material(scene, name) >= 0)
+        return plm_fail(err, PLM_ERR_INVALID, "feather \"%s\" is already defined (names must be unique)", name);
+    plm_species species;
+    plm_result rc = plm_species_load(species_file, &species, err);
+    if (rc != PLM_OK)
+        return rc;
+    plm_material feather, rachis;
+    memset(&feather, 0, sizeof feather);
+    memset(&rachis, 0, sizeof rachis);
+    snprintf(feather.name, sizeof feather.name, "%.100s", name);
+    snprintf(rachis.name, sizeof rachis.name, "%.100s.rachis", name);
+    plm_json_reader optics_reader = {species_file, err};
+    static const cJSON empty = {0};
+    rc = read_feather_optics(&optics_reader, species.optics ? species.optics : &empty, "optics", optics_keys,
+                             &feather);
+    plm_feather f;
+    memset(&f, 0, sizeof f);
+    plm_feather_options options = {level, texture_size, texture_size, 0, 0, 1};
+    if (rc == PLM_OK)
+        rc = plm_feather_generate(&species, &options, &f, err);
+    if (rc == PLM_OK) {
+        rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
+                                             err);
+        f.texture.pixels = NULL; /* owned by the material now */
+    }
+    rachis.reflectance = feather.reflectance;
+    if (rc == PLM_OK && (plm_scene_add_mesh(scene, vane_name, &f.vane) < 0 ||
+                         plm_scene_add_mesh(scene, rachis_name, &f.rachis) < 0 ||
+                         plm_scene_add_material(scene, &rachis) < 0 || plm_scene_add_material(scene, &feather) < 0))
+        rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    else if (rc != PLM_OK) {
+        plm_feather_texture_free(&feather.texture);
+        free(feather.feather);
+    }
+    plm_feather_free(&f);
+    plm_species_free(&species);
+    return rc;
+}
+
 static plm_result generate_feather(const plm_json_reader *r, const cJSON *obj, const char *path, const char *name,
                                    plm_scene *scene)
 {
     static const char *const keys[] = {"species", "level", "texture_size", NULL};
-    static const char *const optics_keys[] = {"rachis_reflectance", "barb", "barbule", "masking", NULL};
-    char species_file[PLM_PATH_MAX], vane_name[PLM_NAME_MAX], rachis_name[PLM_NAME_MAX];
+    char species_file[PLM_PATH_MAX];
     int level = PLM_FEATHER_DEFAULT_LEVEL, size = 1024;
-    if (strlen(name) > FEATHER_NAME_MAX)
-        return plm_json_fail(r, "feathers", name, "feather names are limited to %d characters", FEATHER_NAME_MAX);
-    snprintf(vane_name, sizeof vane_name, "%.100s.vane", name);
-    snprintf(rachis_name, sizeof rachis_name, "%.100s.rachis", name);
     plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
         rc = read_path(r, obj, path, "species", 1, species_file);
@@ -650,46 +691,11 @@ static plm_result generate_feather(const plm_json_reader *r, const cJSON *obj, c
         rc = plm_json_int(r, obj, path, "level", level, 1, 6, &level);
     if (rc == PLM_OK)
         rc = plm_json_int(r, obj, path, "texture_size", size, 16, 8192, &size);
-    if (rc == PLM_OK && (plm_scene_find_mesh(scene, vane_name) >= 0 || plm_scene_find_material(scene, name) >= 0))
-        rc = plm_json_fail(r, "feathers", name, "is already defined (names must be unique across included files)");
     if (rc != PLM_OK)
         return rc;
-    plm_species species;
-    if ((rc = plm_species_load(species_file, &species, r->err)) != PLM_OK) {
+    /* Whatever fails (reading, optics, generation) comes from the species named here. */
+    if ((rc = plm_scene_add_species_feather(scene, name, species_file, level, size, r->err)) != PLM_OK)
         plm_error_prefix(r->err, "%s: %s.species: ", r->file, path);
-        return rc;
-    }
-    plm_material feather, rachis;
-    memset(&feather, 0, sizeof feather);
-    memset(&rachis, 0, sizeof rachis);
-    snprintf(feather.name, sizeof feather.name, "%.100s", name);
-    snprintf(rachis.name, sizeof rachis.name, "%.100s.rachis", name);
-    plm_json_reader optics_reader = {species_file, r->err};
-    static const cJSON empty = {0};
-    const cJSON *optics = species.optics ? species.optics : &empty;
-    rc = read_feather_optics(&optics_reader, optics, "optics", optics_keys, &feather);
-    plm_feather f;
-    memset(&f, 0, sizeof f);
-    plm_feather_options options = {level, size, size, 0, 0, 1};
-    if (rc == PLM_OK)
-        rc = plm_feather_generate(&species, &options, &f, r->err);
-    if (rc == PLM_OK) {
-        rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
-                                             r->err);
-        f.texture.pixels = NULL; /* owned by the material now */
-    }
-    rachis.reflectance = feather.reflectance;
-    if (rc == PLM_OK && (plm_scene_add_mesh(scene, vane_name, &f.vane) < 0 ||
-                         plm_scene_add_mesh(scene, rachis_name, &f.rachis) < 0 ||
-                         plm_scene_add_material(scene, &rachis) < 0 || plm_scene_add_material(scene, &feather) < 0))
-        rc = plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
-    else if (rc != PLM_OK) {
-        plm_feather_texture_free(&feather.texture);
-        free(feather.feather);
-        plm_error_prefix(r->err, "%s: %s: ", r->file, path);
-    }
-    plm_feather_free(&f);
-    plm_species_free(&species);
     return rc;
 }
 

@@ -49,9 +49,11 @@ expect_ok "generated feather.json through include" "$PLUMAGE" render inc.json --
 
 # Ctrl-C: the image so far is written, the exit status says it was interrupted.
 sed 's/"spp": 4/"spp": 100000/; s/ok\.png/int.png/; s/ok\.exr/int.exr/' ok.json > long.json
-"$PLUMAGE" render long.json --quiet 2>int_err.txt &
+"$PLUMAGE" render long.json 2>int_err.txt &
 pid=$!
-sleep 1.5
+# The progress bar appears once sampling has started (the SIGINT handler is in place by then).
+for _ in $(seq 100); do [ -s int_err.txt ] && break; sleep 0.1; done
+sleep 0.3
 kill -INT $pid
 wait $pid
 status=$?
