@@ -87,7 +87,10 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
         for (int i = 0; i < width; ++i) {
             vec2 p = plm_outline_flat(o, (i + 0.5) / width, v);
             plm_flat_sample s = plm_outline_sample_row(o, &row, p.x);
-            vec2 d = v2_normalize(v2(s.barb.x * su, s.barb.y * sv));
+            /* Single precision: the texel stores floats anyway. */
+            float dx = (float)(s.barb.x * su), dy = (float)(s.barb.y * sv);
+            float inv = 1.0f / sqrtf(dx * dx + dy * dy);
+            vec2 d = v2(dx * inv, dy * inv);
             if (!isfinite(d.x) || !isfinite(d.y)) {
                 plm_texture_image_free(feather);
                 if (pigment)
