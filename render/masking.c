@@ -108,6 +108,8 @@ static plm_barb_geometry barb_geometry(double barb_eccentricity, double barbule_
     g.w = 0.5 / (1.0 + barbule_length * cos(barbule_inclination));
     g.hb = g.w * barb_eccentricity;
     g.yc = barbule_length * g.w * sin(barbule_inclination);
+    g.inv_w2 = 1.0 / (g.w * g.w);
+    g.inv_hb2 = 1.0 / (g.hb * g.hb);
     return g;
 }
 
@@ -120,7 +122,7 @@ typedef struct view_segment {
 /* Everything about one view that the rays of all classes share. */
 typedef struct barb_view {
     double dx, dy, inv_dy;
-    double ylo, yhi, w;
+    double x_in, x_out;    /* a ray enters and leaves the band at x = s / d_y + x_in, + x_out (plus w) */
     double half_width;     /* the barb's projected half-width along u */
     double k1, k2, inv_qa; /* barb entry depth: k1 ds + sqrt(k2 ds^2 + inv_qa) for offset ds */
     view_segment distal, proximal;
@@ -200,12 +202,8 @@ static int cell_hits(const barb_view *v, int j, double s, hit hits[3])
 static ray_result trace_ray(const barb_view *v, double s)
 {
     ray_result r = {0.0, 0.0, 0.0, 0.0, 0};
-    /* The ray is s u + tau d, travelling toward smaller tau; y = tau d_y - s d_x. */
-    double tau_top = (v->yhi + s * v->dx) * v->inv_dy, tau_bottom = (v->ylo + s * v->dx) * v->inv_dy;
-    double tau_in = tau_top > tau_bottom ? tau_top : tau_bottom;
-    double tau_out = tau_top > tau_bottom ? tau_bottom : tau_top;
-    int j = (int)floor_small(s * v->dy + tau_in * v->dx + v->w);
-    int j_last = (int)floor_small(s * v->dy + tau_out * v->dx + v->w);
+    double x = s * v->inv_dy;
+    int j = (int)floor_small(x + v->x_in), j_last = (int)floor_small(x + v->x_out);
     int step = j_last >= j ? 1 : -1;
     double throughput = 1.0;
     int last_layer = -1;
@@ -293,13 +291,16 @@ static barb_view barb_view_make(const plm_barb_geometry *g, double t_proximal, d
     v.dx = d.x;
     v.dy = d.y;
     v.inv_dy = 1.0 / d.y;
-    v.w = g->w;
-    v.ylo = g->yc < -g->hb ? g->yc : -g->hb;
-    v.yhi = g->yc > g->hb ? g->yc : g->hb;
+    /* The ray s u + tau d (u = (d_y, -d_x)) is at x = s / d_y + y d_x / d_y
+     * when at height y; it enters the band of geometry on the viewer's side. */
+    double ylo = g->yc < -g->hb ? g->yc : -g->hb, yhi = g->yc > g->hb ? g->yc : g->hb;
+    double y_in = d.y > 0.0 ? yhi : ylo, y_out = d.y > 0.0 ? ylo : yhi;
+    v.x_in = y_in * d.x * v.inv_dy + g->w;
+    v.x_out = y_out * d.x * v.inv_dy + g->w;
     v.half_width = sqrt(plm_sqr(g->w * d.y) + plm_sqr(g->hb * d.x));
     /* Barb entry: q = ds u + t d on (q_x / w)^2 + (q_y / hb)^2 = 1, with
      * u = (d_y, -d_x); the larger root t is the side facing the viewer. */
-    double iw2 = 1.0 / (g->w * g->w), ih2 = 1.0 / (g->hb * g->hb);
+    double iw2 = g->inv_w2, ih2 = g->inv_hb2;
     double qa = d.x * d.x * iw2 + d.y * d.y * ih2;
     double qb = 2.0 * (d.y * d.x * iw2 - d.x * d.y * ih2); /* times ds */
     double qc = d.y * d.y * iw2 + d.x * d.x * ih2;          /* times ds^2, minus 1 */
@@ -321,7 +322,7 @@ static void barb_eval(const plm_barb_geometry *g, double t_proximal, double t_di
      * tangent points, Eq. 5) or passes a segment end (the roots and the ridge
      * corner); between those, every ray of the period meets the same things in
      * the same order, so one ray per class decides the class. */
-    double period = fabs(v.dy), inv_period = 1.0 / period;
+    double period = fabs(v.dy), inv_period = fabs(v.inv_dy);
     double b[5] = {wrap(-v.half_width, period, inv_period), wrap(v.half_width, period, inv_period),
                    wrap(v.distal.s0, period, inv_period), wrap(v.proximal.s0, period, inv_period),
                    wrap(v.distal.s1, period, inv_period)};

@@ -62,7 +62,8 @@ void plm_masking_eval(const plm_masking_params *p, vec3 wo_barb_frame, plm_maski
 /* The same with the view-independent work (frames, trigonometry) done once
  * per parameter set, for callers that evaluate many directions (a BSDF). */
 typedef struct plm_barb_geometry {
-    double w, hb, yc; /* barb semi-axes along b and n; ridge height (cell 0's ridge is (1/2, yc)) */
+    double w, hb, yc;      /* barb semi-axes along b and n; ridge height (cell 0's ridge is (1/2, yc)) */
+    double inv_w2, inv_hb2; /* 1 / w^2, 1 / hb^2 */
 } plm_barb_geometry;
 typedef struct plm_barbule_frame {
     vec3 axis, e2, e3;
