@@ -2,8 +2,9 @@
  * path tracer on (a) one feather at 256x512 and (b) 2,500 instanced feathers
  * over a plane at 512x256, both under an environment map with maximum depth
  * 16; and a trace-only pass (same camera rays and bounce count, no shading)
- * so the shading overhead shows as a ratio. Until generated feathers exist
- * the feather is a curled vane quad cut out by an analytic feather texture. */
+ * so the shading overhead shows as a ratio. The feather is generated from a
+ * species preset, or (--vane-quad) a curled quad cut out by an analytic
+ * feather texture. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,50 +60,95 @@ static plm_light sky_light(void)
     return l;
 }
 
-static int build_scene(plm_scene *s, int feathers, int width, int height, int diffuse, plm_error *err)
+/* The feather every scene instances: a generated one (vane and rachis) or
+ * the analytic vane quad; its parts and the scale that makes it about one
+ * unit long. */
+typedef struct prototype {
+    int count, mesh[2], material[2];
+    double scale;
+} prototype;
+
+static int add_vane_quad(plm_scene *s, prototype *p, plm_error *err)
+{
+    plm_mesh vane;
+    if (plm_shape_quad(0.4, 1.0, 1.5, 32, &vane, err) != PLM_OK)
+        return 0;
+    plm_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "vane");
+    m.type = PLM_MATERIAL_FEATHER;
+    m.reflectance = rgb_make(0.85, 0.8, 0.7);
+    m.feather = malloc(sizeof *m.feather);
+    float *px = vane_texture_pixels(256, 512);
+    if (!m.feather || !px || plm_feather_texture_from_pixels(256, 512, px, &m.texture, err) != PLM_OK) {
+        free(m.feather);
+        return 0;
+    }
+    plm_feather_params_default(m.feather);
+    *p = (prototype){1, {plm_scene_add_mesh(s, "vane", &vane)}, {plm_scene_add_material(s, &m)}, 1.0};
+    return 1;
+}
+
+static int add_species(plm_scene *s, const char *species, prototype *p, plm_error *err)
+{
+    if (plm_scene_add_species_feather(s, "f", species, 3, 1024, err) != PLM_OK)
+        return 0;
+    *p = (prototype){2,
+                     {plm_scene_find_mesh(s, "f.vane"), plm_scene_find_mesh(s, "f.rachis")},
+                     {plm_scene_find_material(s, "f"), plm_scene_find_material(s, "f.rachis")},
+                     1.0};
+    /* Scale the feather (in millimetres) to a length of about one unit. */
+    const plm_mesh *m = &s->meshes[p->mesh[0]].mesh;
+    double lo = INFINITY, hi = -INFINITY;
+    for (int v = 0; v < m->vertex_count; ++v)
+        lo = fmin(lo, m->positions[3 * v + 1]), hi = fmax(hi, m->positions[3 * v + 1]);
+    p->scale = hi > lo ? 1.0 / (hi - lo) : 1.0;
+    return 1;
+}
+
+static void place(plm_scene *s, const prototype *p, const plm_xform *x, rgb tint)
+{
+    plm_xform scale = plm_xform_scale(v3(p->scale, p->scale, p->scale)), xs = plm_xform_compose(x, &scale);
+    for (int k = 0; k < p->count; ++k) {
+        plm_instance in = {p->mesh[k], p->material[k], xs, tint};
+        plm_scene_add_instance(s, &in);
+    }
+}
+
+static int build_scene(plm_scene *s, int feathers, int width, int height, const char *species, int diffuse,
+                       plm_error *err)
 {
     plm_scene_init(s);
     s->film.width = width;
     s->film.height = height;
     s->film.max_depth = 16;
-    plm_mesh vane, ground;
-    if (plm_shape_quad(0.4, 1.0, 1.5, 32, &vane, err) != PLM_OK || plm_shape_quad(40, 40, 0, 1, &ground, err) != PLM_OK)
+    prototype proto;
+    if (!(species ? add_species(s, species, &proto, err) : add_vane_quad(s, &proto, err)))
         return 0;
-    int vane_mesh = plm_scene_add_mesh(s, "vane", &vane), ground_mesh = plm_scene_add_mesh(s, "ground", &ground);
-    plm_material m;
-    memset(&m, 0, sizeof m);
-    snprintf(m.name, sizeof m.name, "vane");
-    m.reflectance = rgb_make(0.75, 0.55, 0.3);
-    if (!diffuse) { /* the feather BSDF with its defaults; the reflectance is then the rachis colour */
-        m.type = PLM_MATERIAL_FEATHER;
-        m.feather = malloc(sizeof *m.feather);
-        if (!m.feather)
-            return 0;
-        plm_feather_params_default(m.feather);
-    }
-    float *px = vane_texture_pixels(256, 512);
-    if (!px || plm_feather_texture_from_pixels(256, 512, px, &m.texture, err) != PLM_OK)
-        return 0;
-    int vane_material = plm_scene_add_material(s, &m);
-    memset(&m, 0, sizeof m);
-    snprintf(m.name, sizeof m.name, "ground");
-    m.reflectance = rgb_gray(0.3);
-    int ground_material = plm_scene_add_material(s, &m);
+    if (diffuse) /* the texture still cuts the vane out */
+        s->materials[proto.material[0]].type = PLM_MATERIAL_DIFFUSE;
     plm_light sky = sky_light();
     if (!sky.image.pixels || plm_scene_add_light(s, &sky) < 0)
         return 0;
-    s->camera.given = 1;
-    s->camera.up = v3(0, 1, 0);
-    plm_xform down = plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2);
-    if (feathers == 1) {
-        s->camera.position = v3(0.25, 0.15, 1.6);
-        s->camera.look_at = v3(0, 0, 0);
-        plm_instance in = {vane_mesh, vane_material, plm_xform_rotate(v3(0, 0, 1), -0.26), rgb_gray(1.0)};
-        plm_scene_add_instance(s, &in);
+    if (feathers == 1) { /* the camera frames the feather's bounds from +z, the dorsal side */
+        plm_xform id = plm_xform_identity();
+        place(s, &proto, &id, rgb_gray(1.0));
         return 1;
     }
-    /* A pelt: a 50x50 grid of feathers lying almost flat on the plane, overlapping like tiles,
+    plm_mesh ground;
+    if (plm_shape_quad(40, 40, 0, 1, &ground, err) != PLM_OK)
+        return 0;
+    plm_material g;
+    memset(&g, 0, sizeof g);
+    snprintf(g.name, sizeof g.name, "ground");
+    g.reflectance = rgb_gray(0.3);
+    plm_instance ground_in = {plm_scene_add_mesh(s, "ground", &ground), plm_scene_add_material(s, &g),
+                              plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2), rgb_gray(1.0)};
+    plm_scene_add_instance(s, &ground_in);
+    /* A pelt: a square grid of feathers lying almost flat on the plane, overlapping like tiles,
      * each turned and tilted a little and tinted, from a fixed seed. */
+    s->camera.given = 1;
+    s->camera.up = v3(0, 1, 0);
     s->camera.position = v3(0, 3.2, 6.0);
     s->camera.look_at = v3(0, 0, 0);
     s->camera.fov = 45;
@@ -117,20 +163,21 @@ static int build_scene(plm_scene *s, int feathers, int width, int height, int di
         plm_xform x = plm_xform_compose(&turn, &lay);
         x = plm_xform_compose(&at, &x);
         double t = 0.7 + 0.3 * plm_rng_uniform(&rng);
-        plm_instance in = {vane_mesh, vane_material, x, rgb_make(t, t * 0.9, 0.8)};
-        plm_scene_add_instance(s, &in);
+        place(s, &proto, &x, rgb_make(t, t * 0.9, 0.8));
     }
-    plm_xform ground_x = down;
-    plm_instance g = {ground_mesh, ground_material, ground_x, rgb_gray(1.0)};
-    plm_scene_add_instance(s, &g);
     return 1;
 }
 
-static int run_case(const char *label, int feathers, int width, int height, int spp, int threads, int diffuse)
+typedef struct bench_options {
+    int threads, spp, feathers, diffuse, vane_quad;
+    const char *species, *images;
+} bench_options;
+
+static int run_case(const char *label, const char *tag, int feathers, int width, int height, const bench_options *o)
 {
     plm_scene scene;
     plm_error err = {{0}};
-    if (!build_scene(&scene, feathers, width, height, diffuse, &err)) {
+    if (!build_scene(&scene, feathers, width, height, o->vane_quad ? NULL : o->species, o->diffuse, &err)) {
         fprintf(stderr, "error: %s\n", err.message[0] ? err.message : "out of memory");
         plm_scene_free(&scene);
         return 1;
@@ -144,17 +191,23 @@ static int run_case(const char *label, int feathers, int width, int height, int 
     }
     double build = plm_bench_seconds() - t0;
     plm_render_options opt = {0};
-    opt.threads = threads;
-    opt.spp = spp;
+    opt.threads = o->threads;
+    opt.spp = o->spp;
     plm_film shaded, traced;
     plm_render_world(&world, &opt, &shaded, &err);
+    if (o->images) { /* to look at what was measured */
+        char path[4096];
+        snprintf(path, sizeof path, "%s_%s.png", o->images, tag);
+        if (plm_film_write(&shaded, NULL, path, 0.0, &err) != PLM_OK)
+            fprintf(stderr, "error: %s\n", err.message);
+    }
     opt.trace_only = 1;
     plm_render_world(&world, &opt, &traced, &err);
     double per_thread = 1.0 / shaded.threads;
     double samples_rate = shaded.sample_count / shaded.seconds * per_thread;
     double shaded_rays = shaded.ray_count / shaded.seconds * per_thread;
     double traced_rays = traced.ray_count / traced.seconds * per_thread;
-    printf("%-30s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f\n", label, width, height, spp,
+    printf("%-30s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f\n", label, width, height, o->spp,
            shaded.threads, samples_rate, shaded_rays, traced_rays, traced_rays / shaded_rays, build,
            plm_bench_peak_mib());
     if (shaded.nonfinite)
@@ -168,12 +221,18 @@ static int run_case(const char *label, int feathers, int width, int height, int 
 
 int bench_render(int argc, char **argv)
 {
-    int threads = 0, spp = 16, feathers = 2500, diffuse = 0;
+    bench_options o = {0, 16, 2500, 0, 0, "presets/species/covert_parrot.json", NULL};
     plm_option opts[] = {
-        {"--threads", PLM_OPT_INT, &threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
-        {"--spp", PLM_OPT_INT, &spp, 0, 1, 65536, NULL, "N", "samples per pixel of each pass (default 16)", 0},
-        {"--feathers", PLM_OPT_INT, &feathers, 0, 1, 1000000, NULL, "N", "feathers in the pelt scene (default 2500)", 0},
-        {"--diffuse", PLM_OPT_FLAG, &diffuse, 0, 0, 0, NULL, NULL, "diffuse vanes instead of the feather BSDF", 0},
+        {"--threads", PLM_OPT_INT, &o.threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
+        {"--spp", PLM_OPT_INT, &o.spp, 0, 1, 65536, NULL, "N", "samples per pixel of each pass (default 16)", 0},
+        {"--feathers", PLM_OPT_INT, &o.feathers, 0, 2, 1000000, NULL, "N", "feathers in the pelt scene (default 2500)", 0},
+        {"--species", PLM_OPT_STRING, &o.species, 0, 0, 0, NULL, "FILE",
+         "the feather, generated in memory (default presets/species/covert_parrot.json)", 0},
+        {"--vane-quad", PLM_OPT_FLAG, &o.vane_quad, 0, 0, 0, NULL, NULL,
+         "instead a curled quad cut out by an analytic feather texture", 0},
+        {"--diffuse", PLM_OPT_FLAG, &o.diffuse, 0, 0, 0, NULL, NULL, "diffuse vanes instead of the feather BSDF", 0},
+        {"--images", PLM_OPT_STRING, &o.images, 0, 0, 0, NULL, "PREFIX",
+         "also write the shaded images as PREFIX_a.png and PREFIX_b.png", 0},
     };
     plm_command_help help = {
         "plumage bench render [options]",
@@ -181,18 +240,18 @@ int bench_render(int argc, char **argv)
         "256x512 and on a pelt of instanced feathers over a plane at 512x256, then the same rays traced\n"
         "without shading. Rays are surface and shadow queries; 'shading x' is the cost of a shaded ray over a\n"
         "trace-only ray (rays/s of the trace-only pass over rays/s of the shaded one). Peak memory is the\n"
-        "process's so far (it includes the libraries and the first scene).\n"
-        "The feather is a curled vane quad cut out by an analytic feather texture, with the feather BSDF\n"
-        "(default parameters). Reference: the paper's Mitsuba 0.6 renderer did about\n"
-        "51,000 samples/s/thread on its 2,500-feather scene."};
-    int rc = plm_parse_options(&help, argc, argv, 1, opts, 4, NULL, 0, NULL);
+        "process's so far (it includes the libraries and the first scene). The feather is generated from a\n"
+        "species preset (run from the repository root, or give --species) and rendered with the feather BSDF.\n"
+        "Reference: the paper's Mitsuba 0.6 renderer did about 51,000 samples/s/thread on its 2,500-feather scene."};
+    int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
     printf("%-30s %9s %4s %7s %16s %14s %14s %9s %8s %9s\n", "scene", "size", "spp", "threads", "samples/s/thread",
            "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB");
-    char pelt[64];
-    snprintf(pelt, sizeof pelt, "(b) %d instanced feathers", feathers);
-    if (run_case("(a) one feather (vane quad)", 1, 256, 512, spp, threads, diffuse) != 0)
+    char one[64], pelt[64];
+    snprintf(one, sizeof one, "(a) one feather%s", o.vane_quad ? " (vane quad)" : "");
+    snprintf(pelt, sizeof pelt, "(b) %d instanced feathers", o.feathers);
+    if (run_case(one, "a", 1, 256, 512, &o) != 0)
         return 1;
-    return run_case(pelt, feathers, 512, 256, spp, threads, diffuse);
+    return run_case(pelt, "b", o.feathers, 512, 256, &o);
 }
