@@ -27,6 +27,16 @@ else
     fail "feather.json content: $(head -c 300 out_remex_pigeon/feather.json)"
 fi
 
+if grep -q '"barbule_separation"' out_remex_pigeon/feather.json; then
+    pass "the species' optics block reaches the feather material"
+else
+    fail "optics not passed through"
+fi
+# The renderer reads what the generator wrote (meshes, texture, scene).
+expect_ok "render the generated scene" "$PLUMAGE" render out_covert_parrot/feather.json --spp 1 --threads 2 \
+    -o rendered.png --quiet
+[ -s rendered.png ] && pass "rendered.png written" || fail "no rendered.png"
+
 # Same species, same bytes (EXR: OpenImageIO stamps the header with the
 # write time, so the comparison starts after the 512-byte header).
 expect_ok "generate again" "$PLUMAGE" generate --species "$SPECIES/covert_parrot.json" -o again --texture-size 128 --obj
