@@ -237,14 +237,16 @@ static ray_result trace_ray(const barb_view *v, double s)
     return r;
 }
 
+/* Sorts five values with a fixed network of nine compare-exchanges: no
+ * data-dependent branches to mispredict. */
 static void sort5(double v[5])
 {
-    for (int i = 1; i < 5; ++i)
-        for (int k = i; k > 0 && v[k] < v[k - 1]; --k) {
-            double tmp = v[k];
-            v[k] = v[k - 1];
-            v[k - 1] = tmp;
-        }
+    static const int pairs[9][2] = {{0, 1}, {3, 4}, {2, 4}, {2, 3}, {1, 4}, {0, 3}, {0, 2}, {1, 3}, {1, 2}};
+    for (int k = 0; k < 9; ++k) {
+        double a = v[pairs[k][0]], b = v[pairs[k][1]];
+        v[pairs[k][0]] = a < b ? a : b;
+        v[pairs[k][1]] = a < b ? b : a;
+    }
 }
 
 static double wrap(double s, double period, double inv_period) { return s - period * floor_small(s * inv_period); }
