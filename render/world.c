@@ -49,7 +49,7 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
     for (unsigned i = 0; i < n; ++i) {
         if (args->valid[i] == 0)
             continue;
-        unsigned prim = hit_ids[5 * n + i], inst = hit_ids[7 * n + i];
+        unsigned prim = proto->triangle[hit_ids[5 * n + i]], inst = hit_ids[7 * n + i];
         if (proto->mask && plm_feather_texture_region(proto->mask, triangle_uv(proto->mesh, prim, hit[3 * n + i],
                                                                                 hit[4 * n + i])) ==
                                PLM_REGION_BACKGROUND) {
@@ -75,22 +75,64 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
     }
 }
 
+/* Whether every texel a triangle's uvs can reach (its uv box, one texel
+ * more for the nearest-texel lookup) is background: then no hit on it can
+ * ever pass the filter, and it is left out of the BVH. */
+static int all_background(const plm_mesh *m, const plm_feather_texture *t, int tri)
+{
+    const uint32_t *idx = m->indices + 3 * (size_t)tri;
+    double u0 = INFINITY, u1 = -INFINITY, v0 = INFINITY, v1 = -INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        vec2 uv = mesh_vec2(m->uvs, idx[k]);
+        u0 = fmin(u0, uv.x), u1 = fmax(u1, uv.x), v0 = fmin(v0, uv.y), v1 = fmax(v1, uv.y);
+    }
+    int x0 = (int)floor(plm_clamp(u0, 0, 1) * t->width) - 1, x1 = (int)floor(plm_clamp(u1, 0, 1) * t->width) + 1;
+    int y0 = (int)floor((1.0 - plm_clamp(v1, 0, 1)) * t->height) - 1;
+    int y1 = (int)floor((1.0 - plm_clamp(v0, 0, 1)) * t->height) + 1;
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 >= t->width ? t->width - 1 : x1, y1 = y1 >= t->height ? t->height - 1 : y1;
+    for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x)
+            if (t->region[(size_t)y * t->width + x] != PLM_REGION_BACKGROUND)
+                return 0;
+    return 1;
+}
+
 static plm_result build_prototype(RTCDevice device, plm_prototype *p, plm_error *err)
 {
     const plm_mesh *m = p->mesh;
+    p->triangle = malloc(sizeof *p->triangle * (size_t)(m->triangle_count + 1));
+    if (!p->triangle)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a mesh of %d triangles", m->triangle_count);
+    int kept = 0;
+    for (int i = 0; i < m->triangle_count; ++i)
+        if (!(p->mask && m->uvs && all_background(m, p->mask, i)))
+            p->triangle[kept++] = (unsigned)i;
+    p->lo = v3(INFINITY, INFINITY, INFINITY);
+    p->hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (int v = 0; v < m->vertex_count; ++v) {
+        vec3 q = mesh_vec3(m->positions, (uint32_t)v);
+        p->lo = v3(fmin(p->lo.x, q.x), fmin(p->lo.y, q.y), fmin(p->lo.z, q.z));
+        p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
+    }
     p->rtc = rtcNewScene(device);
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                        (size_t)m->vertex_count);
     unsigned *t = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                          (size_t)m->triangle_count);
+                                          (size_t)(kept > 0 ? kept : 1));
     if (!v || !t) {
         rtcReleaseGeometry(g);
+        rtcReleaseScene(p->rtc);
+        p->rtc = NULL;
         return plm_fail(err, PLM_ERR_NO_MEMORY, "Embree could not allocate a mesh of %d triangles",
                         m->triangle_count);
     }
     memcpy(v, m->positions, sizeof(float) * 3 * (size_t)m->vertex_count);
-    memcpy(t, m->indices, sizeof(unsigned) * 3 * (size_t)m->triangle_count);
+    for (int i = 0; i < kept; ++i)
+        memcpy(t + 3 * (size_t)i, m->indices + 3 * (size_t)p->triangle[i], 3 * sizeof(unsigned));
+    if (kept == 0) /* nothing visible: one degenerate triangle, which Embree never hits */
+        t[0] = t[1] = t[2] = 0, p->triangle[0] = 0;
     if (p->mask || p->transmissive) {
         rtcSetGeometryUserData(g, p);
         rtcSetGeometryIntersectFilterFunction(g, surface_filter);
@@ -133,10 +175,10 @@ static plm_result build_prototypes(plm_world *w, plm_error *err)
             w->prototypes[k].mesh = mesh;
             w->prototypes[k].mask = mask;
             w->prototypes[k].transmissive = transmissive;
+            w->prototype_count++; /* counted first, so plm_world_free releases a half-built one */
             plm_result rc = build_prototype(w->device, &w->prototypes[k], err);
             if (rc != PLM_OK)
                 return rc;
-            w->prototype_count++;
         }
         w->instance_prototype[i] = k;
     }
@@ -167,13 +209,7 @@ static void build_instances(plm_world *w)
         rtcAttachGeometryByID(w->top, g, (unsigned)i);
         rtcReleaseGeometry(g);
         /* World bounds from the corners of the mesh's box. */
-        const plm_mesh *mesh = &s->meshes[in->mesh].mesh;
-        vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-        for (int v = 0; v < mesh->vertex_count; ++v) {
-            vec3 p = mesh_vec3(mesh->positions, (uint32_t)v);
-            lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-            hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-        }
+        vec3 lo = w->prototypes[w->instance_prototype[i]].lo, hi = w->prototypes[w->instance_prototype[i]].hi;
         for (int c = 0; c < 8; ++c)
             grow_bounds(w, plm_xform_point(in->xform.m, v3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y,
                                                            c & 4 ? hi.z : lo.z)));
@@ -268,8 +304,11 @@ void plm_world_free(plm_world *w)
     free(w->lights);
     if (w->top)
         rtcReleaseScene(w->top);
-    for (int i = 0; i < w->prototype_count; ++i)
-        rtcReleaseScene(w->prototypes[i].rtc);
+    for (int i = 0; i < w->prototype_count; ++i) {
+        if (w->prototypes[i].rtc)
+            rtcReleaseScene(w->prototypes[i].rtc);
+        free(w->prototypes[i].triangle);
+    }
     free(w->prototypes);
     free(w->instance_prototype);
     if (w->device)
@@ -358,7 +397,8 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return 0;
     *t = rh.ray.tfar;
-    fill_hit(w, rh.hit.instID[0], rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+    unsigned inst = rh.hit.instID[0];
+    fill_hit(w, inst, w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID], rh.hit.u, rh.hit.v, hit);
     return 1;
 }
 

@@ -18,6 +18,8 @@ typedef struct plm_prototype {
     const plm_feather_texture *mask;
     int transmissive;
     RTCScene rtc;
+    unsigned *triangle; /* Embree primitive -> mesh triangle (triangles all on background are left out) */
+    vec3 lo, hi;        /* the mesh's bounds */
 } plm_prototype;
 
 typedef struct plm_camera {

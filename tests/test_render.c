@@ -397,6 +397,28 @@ static void mask_filters_remove_background(void **state)
     assert_float_equal(hit.dpdu.x, 1.0, 1e-6);
     assert_float_equal(hit.dpdv.y, 1.0, 1e-6);
     plm_world_free(&w);
+
+    /* A curled vane (triangles all on background are left out of the BVH) and
+     * a texture that is background everywhere (no triangle at all). */
+    int curled = add_quad_mesh(&s, "curled", 1, 1, 0.5);
+    plm_instance in = {curled, mat, plm_xform_translate(v3(0, 0, 5)), rgb_gray(1.0)};
+    plm_scene_add_instance(&s, &in);
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "nothing");
+    px = calloc(4 * 4 * 3, sizeof(float));
+    assert_int_equal(plm_feather_texture_from_pixels(4, 4, px, &m.texture, &err), PLM_OK);
+    in.material = plm_scene_add_material(&s, &m);
+    in.xform = plm_xform_translate(v3(0, 0, 8));
+    plm_scene_add_instance(&s, &in);
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    assert_int_equal(w.prototype_count, 3);
+    for (double x = -0.45; x < 0.5; x += 0.1) {
+        int hits = plm_world_intersect(&w, v3(x, 0.1, 10), v3(0, 0, -1), 5.5, &t, &hit);
+        assert_int_equal(hits, x > 0.0);
+        if (hits)
+            assert_true(hit.uv.x > 0.5 && hit.p.z < 5.0 + 1e-9);
+    }
+    plm_world_free(&w);
     plm_scene_free(&s);
 }
 
