@@ -182,6 +182,19 @@ static edge_stats count_edges(const plm_mesh *m)
     return s;
 }
 
+/* Manifold with consistent winding and the Euler characteristic of a disk
+ * (1: one boundary loop) or a sphere (2: closed). */
+static void check_topology(const plm_mesh *m, int euler)
+{
+    edge_stats s = count_edges(m);
+    assert_int_equal(s.non_manifold, 0);
+    assert_int_equal(s.inconsistent, 0);
+    assert_int_equal(s.boundary_vertices_bad, 0);
+    assert_int_equal(m->vertex_count - s.edges + m->triangle_count, euler);
+    if (euler == 2)
+        assert_int_equal(s.boundary_edges, 0);
+}
+
 static vec3 pos(const plm_mesh *m, uint32_t i)
 {
     return v3(m->positions[3 * i], m->positions[3 * i + 1], m->positions[3 * i + 2]);
@@ -221,12 +234,7 @@ static void vanes_are_clean_open_disks(void **state)
         plm_species sp = load_preset(presets[p]);
         plm_feather f = meshes_of(&sp);
         const plm_mesh *m = &f.vane;
-        edge_stats s = count_edges(m);
-        assert_int_equal(s.non_manifold, 0);
-        assert_int_equal(s.inconsistent, 0);
-        assert_int_equal(s.boundary_vertices_bad, 0);
-        /* One boundary loop around a disk: V - E + F = 1. */
-        assert_int_equal(m->vertex_count - s.edges + m->triangle_count, 1);
+        check_topology(m, 1);
         check_triangles(m, 15.0);
         for (int v = 0; v < m->vertex_count; ++v) {
             for (int k = 0; k < 2; ++k)
@@ -258,11 +266,7 @@ static void rachis_is_a_closed_outward_tube(void **state)
         plm_species sp = load_preset(presets[p]);
         plm_feather f = meshes_of(&sp);
         const plm_mesh *m = &f.rachis;
-        edge_stats s = count_edges(m);
-        assert_int_equal(s.boundary_edges, 0);
-        assert_int_equal(s.non_manifold, 0);
-        assert_int_equal(s.inconsistent, 0);
-        assert_int_equal(m->vertex_count - s.edges + m->triangle_count, 2); /* a sphere */
+        check_topology(m, 2);
         /* The domed ends turn 90 degrees within a few triangles of the (one
          * level coarser) tube: there only "not flipped" is asked. */
         check_triangles(m, 89.0);
@@ -447,9 +451,7 @@ static void random_species_give_clean_feathers(void **state)
         assert_int_equal(plm_feather_generate(&sp, &opt, &f, NULL), PLM_OK);
         const plm_mesh *meshes[2] = {&f.vane, &f.rachis};
         for (int m = 0; m < 2; ++m) {
-            edge_stats s = count_edges(meshes[m]);
-            assert_int_equal(s.non_manifold + s.inconsistent, 0);
-            assert_int_equal(meshes[m]->vertex_count - s.edges + meshes[m]->triangle_count, m ? 2 : 1);
+            check_topology(meshes[m], m ? 2 : 1);
             check_triangles(meshes[m], 89.0);
         }
         for (size_t i = 0; i < (size_t)64 * 64 * 3; ++i)
