@@ -42,12 +42,13 @@ static double erfinv(double y)
 /* erf(x) for x >= 0, skipping the call where it is 1 to double precision. */
 static double erf_positive(double x) { return x > 6.0 ? 1.0 : erf(x); }
 
-/* 1 / (sqrt(2 pi) beta Z) where Z is the mass of N(Theta, beta) inside [-pi/2, pi/2]. */
-static double gm_scale(double Theta, double beta)
+/* 1 / (sqrt(2 pi) beta Z) where Z is the mass of N(Theta, beta) inside
+ * [-pi/2, pi/2], given inv_s = 1 / (sqrt(2) beta) and unit = 1 / (sqrt(2 pi) beta)
+ * (no division when Z is 1 to double precision, as for most lobes). */
+static double gm_scale(double Theta, double inv_s, double unit)
 {
-    double s = 1.0 / (SQRT2 * beta);
-    double z = 0.5 * (erf_positive((HALF_PI - Theta) * s) + erf_positive((HALF_PI + Theta) * s));
-    return 1.0 / (SQRT_2PI * beta * z);
+    double z = 0.5 * (erf_positive((HALF_PI - Theta) * inv_s) + erf_positive((HALF_PI + Theta) * inv_s));
+    return z == 1.0 ? unit : unit / z;
 }
 
 /* Wraps an angle difference of two angles in [-pi, pi] into [-pi, pi]. */
@@ -96,6 +97,7 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
         return;
     plm_fiber_lobe lobes[PLM_FIBER_SET_MAX_LOBES];
     int n = plm_fiber_trace(p, wo, set->h, rng, lobes);
+    double inv_s = 1.0 / (SQRT2 * p->beta_m), unit = 1.0 / (SQRT_2PI * p->beta_m);
     for (int i = 0; i < n; ++i) {
         double w = rgb_mean(lobes[i].throughput);
         if (!(w > 0.0))
@@ -103,7 +105,7 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
         int k = set->count++;
         set->theta[k] = plm_safe_asin(lobes[i].dir.z);
         set->phi[k] = atan2(lobes[i].dir.y, lobes[i].dir.x);
-        set->gm_scale[k] = gm_scale(set->theta[k], p->beta_m);
+        set->gm_scale[k] = gm_scale(set->theta[k], inv_s, unit);
         set->throughput[k] = lobes[i].throughput;
         set->cdf[k + 1] = set->cdf[k] + w;
     }

@@ -237,14 +237,14 @@ static rgb path_throughput(const plm_fiber_params *p, const fiber_path *path, do
 static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, double h, plm_fiber_lobe *lobe0,
                   fiber_path *path)
 {
-    double proj = sqrt(wo.x * wo.x + wo.y * wo.y);
-    vec2 v = v2(wo.x / proj, wo.y / proj);  /* view direction projected in the cross-section */
+    double inv_proj = 1.0 / sqrt(wo.x * wo.x + wo.y * wo.y);
+    vec2 v = v2(wo.x * inv_proj, wo.y * inv_proj); /* view direction projected in the cross-section */
     vec2 side = v2(v.y, -v.x);              /* h increases along this (DESIGN 3.2) */
-    double e = cortex->b;
+    double e = cortex->b, inv_e = cortex->inv_b;
     double half_width = sqrt(side.x * side.x + e * e * side.y * side.y); /* support function of the cortex */
     vec3 d = v3_neg(wo);
     /* In unit-circle coordinates the ray's discriminant is exactly A (1 - h^2). */
-    double X = h * half_width * side.x, Y = h * half_width * side.y / e, DX = d.x, DY = d.y / e;
+    double X = h * half_width * side.x, Y = h * half_width * side.y * inv_e, DX = d.x, DY = d.y * inv_e;
     double A = DX * DX + DY * DY, B = X * DX + Y * DY, root = sqrt(A * (1.0 - h * h));
     /* The near root. Its absolute error, all the snap below needs, is about
      * eps (|B| + root) / A; the "stable" form C / (root - B) would divide
@@ -255,10 +255,10 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
                              &PX, &PY);
     vec3 n = ellipse_normal(cortex, PX, PY);
     double cos_i = plm_clamp(-v3_dot(d, n), 0.0, 1.0), cos_t;
-    double f = fresnel(cos_i, p->eta, 1.0 / (p->eta * p->eta), &cos_t);
+    double inv_eta = 1.0 / p->eta, f = fresnel(cos_i, p->eta, inv_eta * inv_eta, &cos_t);
     lobe0->dir = reflect(d, n);
     lobe0->throughput = rgb_gray(f);
-    path->dir = refract(d, n, cos_i, cos_t, 1.0 / p->eta);
+    path->dir = refract(d, n, cos_i, cos_t, inv_eta);
     path->weight = 1.0 - f;
     path->tint = rgb_gray(1.0);
     path->length = 0.0;
