@@ -2,11 +2,7 @@
 
 #include "render/sampling.h"
 
-/* A ray passes at most this many partly transparent surfaces: beyond that
- * (a pathological stack of sheets) it counts as absorbed. */
-#define MAX_PASSES 512
-
-typedef enum segment_end { END_ABSORBED, END_ESCAPED, END_LIGHT, END_SURFACE } segment_end;
+typedef enum segment_end { END_ESCAPED, END_LIGHT, END_SURFACE } segment_end;
 
 typedef struct segment {
     plm_hit hit;  /* END_SURFACE */
@@ -18,31 +14,24 @@ typedef struct segment {
  * escapes; surfaces it meets are passed with their transmission probability. */
 static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, plm_rng *rng, segment *seg, long long *rays)
 {
-    for (int pass = 0; pass < MAX_PASSES; ++pass) {
-        double t_surface = INFINITY, t;
-        ++*rays;
-        int surface = plm_world_intersect(w, o, d, INFINITY, &t_surface, &seg->hit);
-        int light = -1;
-        for (int i = 0; i < w->light_count; ++i) {
-            rgb le;
-            if (plm_light_intersect(&w->lights[i], o, d, t_surface, &t, &le)) {
-                t_surface = t;
-                light = i;
-                seg->emitted = le;
-            }
+    uint64_t seed = ((uint64_t)plm_rng_u32(rng) << 32) | plm_rng_u32(rng);
+    double t_surface = INFINITY, t;
+    ++*rays;
+    int surface = plm_world_intersect_passing(w, o, d, INFINITY, seed, &t_surface, &seg->hit);
+    int light = -1;
+    for (int i = 0; i < w->light_count; ++i) {
+        rgb le;
+        if (plm_light_intersect(&w->lights[i], o, d, t_surface, &t, &le)) {
+            t_surface = t;
+            light = i;
+            seg->emitted = le;
         }
-        if (light >= 0) {
-            seg->light = light;
-            return END_LIGHT;
-        }
-        if (!surface)
-            return END_ESCAPED;
-        double pass_probability = plm_material_transmission(&seg->hit, v3_neg(d));
-        if (!(pass_probability > 0.0 && plm_rng_uniform(rng) < pass_probability))
-            return END_SURFACE;
-        o = plm_world_offset(w, &seg->hit, d);
     }
-    return END_ABSORBED;
+    if (light >= 0) {
+        seg->light = light;
+        return END_LIGHT;
+    }
+    return surface ? END_SURFACE : END_ESCAPED;
 }
 
 double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist, long long *rays)
@@ -99,8 +88,6 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
     plm_bsdf bsdf;
     for (int depth = 0;; ++depth) {
         segment_end end = trace_segment(w, o, d, rng, &seg, rays);
-        if (end == END_ABSORBED)
-            break;
         if (end == END_LIGHT) {
             rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est);
             radiance = rgb_add(radiance, rgb_mul(beta, le));

@@ -20,12 +20,15 @@ static vec2 triangle_uv(const plm_mesh *m, unsigned prim, double b1, double b2)
 
 /* Every Embree query passes this context; the filters get it back (it
  * starts with the context Embree expects). A transparent shadow query
- * collects the surfaces it passes instead of stopping at them. */
+ * collects the surfaces it passes instead of stopping at them; a passing
+ * query lets each surface go by with its transmission probability. */
 #define MAX_CROSSINGS 64
 typedef struct query_context {
     struct RTCIntersectContext rtc;
     const plm_world *world;
     int transparent;
+    int passing;
+    uint64_t seed;                    /* passing: decisions are hash(seed, instance, triangle) */
     vec3 back;                        /* unit, opposite to the ray's world-space direction */
     int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
     double t[MAX_CROSSINGS], transmission[MAX_CROSSINGS];
@@ -56,12 +59,21 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
             args->valid[i] = 0;
             continue;
         }
-        if (!ctx->transparent)
+        if (!ctx->transparent && !ctx->passing)
             continue;
         plm_hit h;
         fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], &h);
         /* In instances the ray arrives in object space; its parameter t is the world one. */
         double tr = plm_material_transmission(&h, ctx->back);
+        if (ctx->passing) {
+            /* One uniform per surface, from its identity rather than from the order Embree
+             * reports candidates in: every surface nearer than the hit kept was reported
+             * and passed, so the kept hit is distributed as when tracing one crossing at a time. */
+            double u = (double)(plm_hash64(ctx->seed, inst, prim) >> 11) * 0x1.0p-53;
+            if (tr > 0.0 && u < tr)
+                args->valid[i] = 0;
+            continue;
+        }
         if (!(tr > 0.0))
             continue; /* opaque: the shadow ray is blocked */
         if (ctx->crossings < MAX_CROSSINGS) {
@@ -381,25 +393,42 @@ static void init_context(query_context *ctx, const plm_world *w, int transparent
     rtcInitIntersectContext(&ctx->rtc);
     ctx->world = w;
     ctx->transparent = transparent;
+    ctx->passing = 0;
     ctx->crossings = 0;
     ctx->overflow = 1.0;
 }
 
-int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
+static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
 {
     struct RTCRayHit rh;
     make_ray(&rh.ray, o, d, tmax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    query_context ctx;
-    init_context(&ctx, w, 0);
-    rtcIntersect1(w->top, &ctx.rtc, &rh);
+    rtcIntersect1(w->top, &ctx->rtc, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return 0;
     *t = rh.ray.tfar;
     unsigned inst = rh.hit.instID[0];
     fill_hit(w, inst, w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID], rh.hit.u, rh.hit.v, hit);
     return 1;
+}
+
+int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
+{
+    query_context ctx;
+    init_context(&ctx, w, 0);
+    return intersect(w, &ctx, o, d, tmax, t, hit);
+}
+
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double *t,
+                                plm_hit *hit)
+{
+    query_context ctx;
+    init_context(&ctx, w, 0);
+    ctx.passing = w->transmissive;
+    ctx.seed = seed;
+    ctx.back = v3_neg(d);
+    return intersect(w, &ctx, o, d, tmax, t, hit);
 }
 
 double plm_world_transmittance(const plm_world *w, vec3 o, vec3 d, double tmax)

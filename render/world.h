@@ -50,6 +50,13 @@ void plm_world_free(plm_world *w);
 
 /* Closest surface along o + t d, t in (0, tmax). Fills hit (and *t); returns 0 on a miss. */
 int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit);
+/* Closest surface along the ray that does not let it pass: each surface
+ * with a transmission (toward -d) is passed with that probability, decided
+ * by a uniform number hashed from (seed, instance, triangle). This is the
+ * delta transmission as fractional visibility in one query. */
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double *t,
+                                plm_hit *hit);
+
 /* Fraction of light passing the segment o + t d, t in (0, tmax): 0 if an
  * opaque surface is in the way, else the product of the transmissions of
  * the surfaces crossed (each seen from the segment's origin side: toward -d).
