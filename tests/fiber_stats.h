@@ -5,6 +5,7 @@
 #define PLUMAGE_TESTS_FIBER_STATS_H
 
 #include "render/fiber.h"
+#include "tests/chi_square.h"
 
 /* Midpoint rule over a (theta, phi) rectangle of eval(wi) cos(theta) dw =
  * eval cos^2 dtheta dphi (channel 0..2), or of pdf dw = pdf cos dtheta dphi (channel 3). */
@@ -27,19 +28,12 @@ static double integrate_sphere(const plm_fiber_params *p, const plm_fiber_lobe_s
     return sum * dt * df;
 }
 
-/* Upper tail of the chi-square distribution (Wilson-Hilferty cube-root
- * normal approximation, accurate for the hundreds of degrees of freedom here). */
-static double chi2_p_value(double chi2, int dof)
-{
-    double k = dof, z = (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
-    return 0.5 * erfc(z / sqrt(2.0));
-}
-
 enum { THETA_BINS = 80, PHI_BINS = 160 };
 
 /* pbrt-v4's test: histogram plm_fiber_sample over an 80 x 160 grid of
  * (theta, phi), integrate plm_fiber_pdf over each cell, pool cells expecting
- * fewer than 5 samples, and compare with Pearson's chi-square. Returns the p-value. */
+ * fewer than 5 samples, and compare with Pearson's chi-square (chi_square.h).
+ * Also checks each record against pdf and eval. Returns the p-value. */
 static double chi_square_p_value(const plm_fiber_params *p, const plm_fiber_lobe_set *set, plm_rng *rng,
                                  int n_samples)
 {
@@ -68,24 +62,7 @@ static double chi_square_p_value(const plm_fiber_params *p, const plm_fiber_lobe
             double t0 = -0.5 * PLM_PI + it * dt, f0 = -PLM_PI + ip * df;
             expected[it * PHI_BINS + ip] = n_samples * integrate_sphere(p, set, 3, t0, t0 + dt, f0, f0 + df, 6, 6);
         }
-    double chi2 = 0.0, pooled_expected = 0.0, pooled_observed = 0.0;
-    int dof = 0;
-    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i) {
-        if (expected[i] == 0.0 && observed[i] > 0.0)
-            return 0.0; /* samples where the pdf says there can be none */
-        if (expected[i] < 5.0) {
-            pooled_expected += expected[i];
-            pooled_observed += observed[i];
-        } else {
-            chi2 += plm_sqr(observed[i] - expected[i]) / expected[i];
-            ++dof;
-        }
-    }
-    if (pooled_expected > 0.0) {
-        chi2 += plm_sqr(pooled_observed - pooled_expected) / pooled_expected;
-        ++dof;
-    }
-    return chi2_p_value(chi2, dof - 1);
+    return chi_square_test(observed, expected, THETA_BINS * PHI_BINS);
 }
 
 #endif
