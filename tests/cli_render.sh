@@ -47,6 +47,15 @@ cat > inc.json <<'JSON'
 JSON
 expect_ok "generated feather.json through include" "$PLUMAGE" render inc.json --quiet -o inc.png
 
+# An environment map from a file (an EXR rendered by plumage itself) and the thin lens.
+cat > sky.json <<'JSON'
+{"film": {"width": 32, "height": 16, "spp": 1, "exr": "sky.exr"}, "lights": [{"type": "environment", "radiance": [0.2, 0.4, 0.9]}]}
+JSON
+expect_ok "render an environment map" "$PLUMAGE" render sky.json --quiet
+sed 's/"lights": \[/"lights": [{"type": "environment", "file": "sky.exr", "rotation": 30}, /; s/"camera": {/"camera": {"aperture": 0.05, "focus_distance": 3, /' ok.json > envmap.json
+expect_ok "environment map and thin lens" "$PLUMAGE" render envmap.json --quiet -o envmap.png
+[ -s envmap.png ] && pass "environment map scene written" || fail "environment map scene written"
+
 # Ctrl-C: the image so far is written, the exit status says it was interrupted.
 sed 's/"spp": 4/"spp": 100000/; s/ok\.png/int.png/; s/ok\.exr/int.exr/' ok.json > long.json
 "$PLUMAGE" render long.json 2>int_err.txt &

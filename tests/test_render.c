@@ -478,6 +478,46 @@ static void light_sampling_densities(void **state)
     free(env.image.pixels);
 }
 
+/* Thin lens: every lens sample through a film point meets the same point on
+ * the plane in focus; the pinhole's ray goes through it too. Env map
+ * conventions: uv and direction are inverse maps, the centre looks along -z
+ * and v = 0 is +y. */
+static void camera_lens_and_envmap_conventions(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    look(&s, v3(1, 2, 5), v3(0, 0, 0), v3(0, 1, 0), 35, 64, 48, 1);
+    s.camera.aperture = 0.2;
+    s.camera.focus_distance = 4.0;
+    add_object(&s, add_quad_mesh(&s, "q", 1, 1, 0), add_diffuse(&s, "d", rgb_gray(0.5), 0.0), plm_xform_identity());
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    vec3 o0, d0;
+    plm_camera_ray(&w.camera, 20.5, 30.25, 0.0, 0.0, &o0, &d0); /* lens centre */
+    vec3 focus = v3_madd(o0, d0, 4.0 / v3_dot(d0, w.camera.forward));
+    for (int i = 0; i < 8; ++i) {
+        vec3 o, d;
+        plm_camera_ray(&w.camera, 20.5, 30.25, 0.1 + 0.1 * i, 0.13 * i, &o, &d);
+        assert_true(v3_length(v3_sub(o, s.camera.position)) <= 0.2 + 1e-12);
+        vec3 p = v3_madd(o, d, v3_dot(v3_sub(focus, o), w.camera.forward) / v3_dot(d, w.camera.forward));
+        assert_true(v3_length(v3_sub(p, focus)) < 1e-9);
+    }
+    plm_world_free(&w);
+    plm_scene_free(&s);
+
+    for (int i = 0; i < 20; ++i) {
+        vec2 uv = v2(0.05 + 0.045 * i, 0.03 + 0.047 * i);
+        vec2 back = plm_envmap_uv(0.7, plm_envmap_direction(0.7, uv));
+        assert_float_equal(back.x, uv.x, 1e-12);
+        assert_float_equal(back.y, uv.y, 1e-12);
+    }
+    vec3 centre = plm_envmap_direction(0.0, v2(0.5, 0.5)), top = plm_envmap_direction(0.0, v2(0.3, 0.0));
+    assert_float_equal(centre.z, -1.0, 1e-12);
+    assert_float_equal(top.y, 1.0, 1e-12);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -491,6 +531,7 @@ int main(void)
         cmocka_unit_test(cancelled_render_keeps_what_it_took),
         cmocka_unit_test(mask_filters_remove_background),
         cmocka_unit_test(light_sampling_densities),
+        cmocka_unit_test(camera_lens_and_envmap_conventions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
