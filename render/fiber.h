@@ -52,6 +52,11 @@ plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err);
 
 static inline int plm_fiber_has_medulla(const plm_fiber_params *p) { return p->medulla_a > 0.0; }
 
+/* Unpolarised Fresnel reflectance of a dielectric interface for cos_i in
+ * [0, 1] and eta = n_t / n_i (below 1 from inside the fiber); 1 under total
+ * internal reflection. The tracer uses it at every cortex interaction. */
+double plm_fiber_fresnel(double cos_i, double eta);
+
 /* One exit of light from the cortex. */
 typedef struct plm_fiber_lobe {
     vec3 dir;       /* exit direction, unit, pointing away from the fiber */

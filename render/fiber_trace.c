@@ -141,6 +141,12 @@ static double fresnel(double cos_i, double eta, double inv_eta2, double *cos_t)
     return 0.5 * (plm_sqr(s_num * p_den) + plm_sqr(p_num * s_den)) / (sp * sp);
 }
 
+double plm_fiber_fresnel(double cos_i, double eta)
+{
+    double cos_t;
+    return fresnel(cos_i, eta, 1.0 / (eta * eta), &cos_t);
+}
+
 /* Refraction of d through an interface with normal n on the incident side
  * (n.d = -cos_i), n_i/n_t = ratio. */
 static vec3 refract(vec3 d, vec3 n, double cos_i, double cos_t, double ratio)

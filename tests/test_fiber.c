@@ -108,6 +108,28 @@ static void elliptical_fiber_vertex_rays(void **state)
     }
 }
 
+/* The tracer's Fresnel term: the textbook amplitudes from either side,
+ * reciprocity (the same reflectance from outside at theta_i and from inside at
+ * the refracted theta_t), and total internal reflection beyond the critical
+ * angle, approached continuously. */
+static void fresnel_both_ways_with_total_internal_reflection(void **state)
+{
+    (void)state;
+    const double eta = 1.53, critical_sin = 1.0 / eta;
+    for (int i = 0; i <= 1000; ++i) {
+        double cos_i = i / 1000.0, sin_i = sqrt(1.0 - cos_i * cos_i);
+        assert_near(plm_fiber_fresnel(cos_i, eta), fresnel_reference(cos_i, eta), 1e-14, "outside", i);
+        double sin_t = sin_i / eta, cos_t = sqrt(1.0 - sin_t * sin_t);
+        assert_near(plm_fiber_fresnel(cos_t, 1.0 / eta), plm_fiber_fresnel(cos_i, eta), 1e-12, "reciprocity", i);
+        if (sin_i > critical_sin)
+            assert_true(plm_fiber_fresnel(cos_i, 1.0 / eta) == 1.0);
+        else
+            assert_near(plm_fiber_fresnel(cos_i, 1.0 / eta), fresnel_reference(cos_i, 1.0 / eta), 1e-10, "inside", i);
+    }
+    double cos_critical = sqrt(1.0 - critical_sin * critical_sin);
+    assert_true(plm_fiber_fresnel(cos_critical + 1e-9, 1.0 / eta) > 0.999);
+}
+
 /* A Fig. 7 fiber's cross-section (REFERENCES.md), clear, with the given
  * eccentricity and medulla reflectance. */
 static plm_fiber_params fiber_variant(int variant, double eccentricity, rgb medulla_reflectance)
@@ -150,12 +172,16 @@ static double lobe_sum(const plm_fiber_lobe *lobes, int n, int channel)
     return s;
 }
 
+/* Finite, in [0, 1], unit directions; lobes after the first are never black
+ * without absorption (a total internal reflection stores nothing), unless the
+ * path's weight has underflowed after hundreds of lobes. */
 static void assert_valid_lobes(const plm_fiber_lobe *lobes, int n)
 {
     for (int k = 0; k < n; ++k) {
         rgb t = lobes[k].throughput;
         assert_true(rgb_is_finite(t));
         assert_true(t.r >= 0.0 && t.g >= 0.0 && t.b >= 0.0 && rgb_max(t) <= 1.0);
+        assert_true(k == 0 || t.r > 0.0 || lobes[k - 1].throughput.r < 1e-300);
         assert_true(fabs(v3_length(lobes[k].dir) - 1.0) < 1e-9);
     }
 }
@@ -381,6 +407,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(circular_fiber_matches_closed_form),
         cmocka_unit_test(elliptical_fiber_vertex_rays),
+        cmocka_unit_test(fresnel_both_ways_with_total_internal_reflection),
         cmocka_unit_test(energy_is_conserved_without_absorption),
         cmocka_unit_test(silhouettes_are_grazing),
         cmocka_unit_test(five_lobes_hold_the_energy),
