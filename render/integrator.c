@@ -69,7 +69,15 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     rgb f = plm_bsdf_eval(bsdf, ls.wi);
     if (rgb_is_black(f))
         return rgb_gray(0.0);
-    double visible = plm_shadow_transmittance(w, plm_world_offset(w, hit, ls.wi), ls.wi, ls.dist, rays);
+    vec3 o = plm_world_offset(w, hit, ls.wi);
+    /* Area lights stop every ray: one in front of the sampled light hides it, as it does for bounce rays. */
+    for (int i = 0; i < w->light_count; ++i) {
+        double t;
+        rgb le;
+        if (i != li && plm_light_intersect(&w->lights[i], o, ls.wi, ls.dist, &t, &le))
+            return rgb_gray(0.0);
+    }
+    double visible = plm_shadow_transmittance(w, o, ls.wi, ls.dist, rays);
     if (visible <= 0.0)
         return rgb_gray(0.0);
     double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;

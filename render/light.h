@@ -1,8 +1,9 @@
 /* Lights prepared for rendering: sampling toward a point (next-event
  * estimation), the density of that sampling for a given direction (multiple
  * importance sampling) and the radiance a ray finds when it hits or escapes
- * to a light. Area lights are analytic shapes outside the Embree scene: they
- * are seen by camera and bounce rays but cast no shadows themselves. */
+ * to a light. Area lights are analytic shapes outside the Embree scene; every
+ * ray stops at them (the integrator tests them beside each Embree query), so
+ * a light hides what lies behind it, other lights included. */
 #ifndef PLUMAGE_RENDER_LIGHT_H
 #define PLUMAGE_RENDER_LIGHT_H
 

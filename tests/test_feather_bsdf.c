@@ -15,46 +15,8 @@
 
 #include "render/feather_bsdf.h"
 #include "render/render.h"
+#include "test_feather_bsdf_stats.h"
 #include "test_render_stats.h"
-
-/* A feather material whose texture is vane everywhere with barbs at angle a (uv space). */
-static plm_material feather_material(const plm_feather_params *p, double a)
-{
-    plm_material m;
-    memset(&m, 0, sizeof m);
-    snprintf(m.name, sizeof m.name, "feather");
-    m.type = PLM_MATERIAL_FEATHER;
-    m.reflectance = rgb_gray(0.8);
-    m.feather = malloc(sizeof *m.feather);
-    *m.feather = *p;
-    float *px = malloc(sizeof(float) * 4 * 4 * 3);
-    for (int i = 0; i < 16; ++i)
-        px[3 * i] = (float)((cos(a) + 1) / 2), px[3 * i + 1] = (float)((sin(a) + 1) / 2), px[3 * i + 2] = 1.0f;
-    plm_error err;
-    assert_int_equal(plm_feather_texture_from_pixels(4, 4, px, &m.texture, &err), PLM_OK);
-    return m;
-}
-
-static void free_material(plm_material *m)
-{
-    plm_feather_texture_free(&m->texture);
-    free(m->feather);
-}
-
-/* A hit on the plane z = 0 with u along x, v along y (toward the tip), normal +z. */
-static plm_hit plane_hit(const plm_material *m)
-{
-    plm_hit h;
-    memset(&h, 0, sizeof h);
-    h.ng = h.n = v3(0, 0, 1);
-    h.dpdu = v3(1, 0, 0);
-    h.dpdv = v3(0, 1, 0);
-    h.uv = v2(0.5, 0.5);
-    h.tint = rgb_gray(1.0);
-    h.material = m;
-    plm_material_surface(&h);
-    return h;
-}
 
 /* A clear feather (no absorption) with a white medulla in its barbs. */
 static plm_feather_params clear_params(int variant)
@@ -99,20 +61,6 @@ static void barb_frame_follows_texture_and_tip(void **state)
     assert_false(plm_feather_barb_frame(v3(0, 0, 1), v3(0, 0, 0), v3(0, 0, 0), v2(1, 0), &f));
 }
 
-/* Uniform-sphere Monte Carlo of the integral of eval, with its standard error. */
-static void integrate_eval(const plm_bsdf *b, plm_rng *rng, int n, double *mean, double *se)
-{
-    double sum = 0.0, sum2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-        vec3 wi = plm_sample_uniform_sphere(plm_rng_uniform(rng), plm_rng_uniform(rng));
-        double v = rgb_mean(plm_bsdf_eval(b, wi)) * 4.0 * PLM_PI;
-        sum += v;
-        sum2 += v * v;
-    }
-    *mean = sum / n;
-    *se = sqrt(fmax(sum2 / n - *mean * *mean, 0.0) / n);
-}
-
 /* White furnace: without absorption the albedo, the integral of f |cos| plus
  * w_t, is 1 minus what the fiber lobes lose (light still inside after N
  * lobes). For each prepared BSDF, the integral of eval equals the weighted
@@ -154,87 +102,6 @@ static void white_furnace_of_the_bsdf(void **state)
     }
     /* Five lobes keep >= 97% of the energy on average (the fiber's own test); the masking loses nothing. */
     assert_true(albedo_sum / cases > 0.95);
-}
-
-static double chi2_p_value(double chi2, int dof)
-{
-    double k = dof, z = (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
-    return 0.5 * erfc(z / sqrt(2.0));
-}
-
-enum { THETA_BINS = 60, PHI_BINS = 120 };
-
-/* Cell of the (theta, phi) grid of frame f holding w (theta = asin(w.z), phi = atan2(w.y, w.x)). */
-static int grid_cell(const frame *f, vec3 w)
-{
-    vec3 l = frame_to_local(f, w);
-    double theta = asin(plm_clamp(l.z, -1, 1)), phi = atan2(l.y, l.x);
-    int it = (int)((theta + 0.5 * PLM_PI) / (PLM_PI / THETA_BINS)), ip = (int)((phi + PLM_PI) / (PLM_TWO_PI / PHI_BINS));
-    it = it < 0 ? 0 : it >= THETA_BINS ? THETA_BINS - 1 : it;
-    ip = ip < 0 ? 0 : ip >= PHI_BINS ? PHI_BINS - 1 : ip;
-    return it * PHI_BINS + ip;
-}
-
-/* Histogram of plm_bsdf_sample over a (theta, phi) grid of the barb frame
- * against the pdf integrated over each cell by an 8x8 midpoint rule (pbrt-v4's
- * test); also checks each sample's weight and pdf, and that the pdf is the
- * pick-weighted mixture of the three fibers' pdfs. Returns the p-value of
- * Pearson's chi-square. */
-static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
-{
-    static double observed[THETA_BINS * PHI_BINS], expected[THETA_BINS * PHI_BINS];
-    memset(observed, 0, sizeof observed);
-    memset(expected, 0, sizeof expected);
-    const plm_feather_bsdf *fb = (const plm_feather_bsdf *)b->state;
-    const frame f = fb->fiber_frame[PLM_FEATHER_BARB];
-    for (int s = 0; s < n; ++s) {
-        plm_bsdf_sample_rec rec;
-        if (!plm_bsdf_sample(b, plm_rng_uniform(rng), plm_rng_uniform(rng), plm_rng_uniform(rng), &rec))
-            continue;
-        double pdf = plm_bsdf_pdf(b, rec.wi), mix = 0.0;
-        for (int k = 0; k < 3; ++k)
-            if (fb->pick[k] > 0.0)
-                mix += fb->pick[k] * plm_fiber_pdf(fb->fiber[k], &fb->set[k], frame_to_local(&fb->fiber_frame[k], rec.wi));
-        rgb e = plm_bsdf_eval(b, rec.wi);
-        assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
-        assert_true(fabs(mix - pdf) <= 1e-12 * pdf);
-        assert_true(fabs(rec.weight.r - e.r / pdf) <= 1e-9 * rec.weight.r + 1e-300);
-        observed[grid_cell(&f, rec.wi)] += 1.0;
-    }
-    const double dt = PLM_PI / THETA_BINS, df = PLM_TWO_PI / PHI_BINS;
-    for (int it = 0; it < THETA_BINS; ++it)
-        for (int ip = 0; ip < PHI_BINS; ++ip) {
-            double sum = 0.0;
-            for (int a = 0; a < 8; ++a)
-                for (int c = 0; c < 8; ++c) {
-                    double theta = -0.5 * PLM_PI + (it + (a + 0.5) / 8) * dt, phi = -PLM_PI + (ip + (c + 0.5) / 8) * df;
-                    vec3 w = frame_to_world(&f, v3(cos(theta) * cos(phi), cos(theta) * sin(phi), sin(theta)));
-                    sum += plm_bsdf_pdf(b, w) * cos(theta);
-                }
-            expected[it * PHI_BINS + ip] = n * sum * dt * df / 64.0;
-        }
-    double total = 0.0;
-    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i)
-        total += expected[i];
-    assert_true(fabs(total / n - 1.0) < 0.01); /* the pdf integrates to 1 */
-    double chi2 = 0.0, pooled_e = 0.0, pooled_o = 0.0;
-    int dof = 0;
-    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i) {
-        if (expected[i] == 0.0 && observed[i] > 0.0)
-            return 0.0;
-        if (expected[i] < 5.0) {
-            pooled_e += expected[i];
-            pooled_o += observed[i];
-        } else {
-            chi2 += plm_sqr(observed[i] - expected[i]) / expected[i];
-            ++dof;
-        }
-    }
-    if (pooled_e > 0.0) {
-        chi2 += plm_sqr(pooled_o - pooled_e) / pooled_e;
-        ++dof;
-    }
-    return chi2_p_value(chi2, dof - 1);
 }
 
 static void sampling_matches_pdf(void **state)

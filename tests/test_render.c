@@ -478,6 +478,35 @@ static void light_sampling_densities(void **state)
     free(env.image.pixels);
 }
 
+/* An area light hides what lies behind it from every ray: a dark quad
+ * light over a floor shades it from the sky for light sampling exactly as
+ * for BSDF sampling (bounce rays stop at the light). */
+static void lights_hide_what_lies_behind_them(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    add_object(&s, add_quad_mesh(&s, "floor", 50, 50, 0), add_diffuse(&s, "d", rgb_gray(0.8), 0.0), floor_at(0));
+    add_light(&s, constant_env(1.0));
+    plm_light q;
+    memset(&q, 0, sizeof q);
+    q.type = PLM_LIGHT_QUAD;
+    q.corner = v3(-2, 0.6, -2);
+    q.edge_u = v3(4, 0, 0);
+    q.edge_v = v3(0, 0, 4); /* faces down, radiance 0: a dark ceiling */
+    add_light(&s, q);
+    look(&s, v3(0, 0.5, 0.5), v3(0, 0, 0), v3(0, 1, 0), 40, 16, 16, 1);
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 3, 20000, 41);
+    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 3, 20000, 42);
+    assert_agree(nee, bsdf, 4.5);
+    assert_true(nee.mean < 0.5 * 0.8); /* the ceiling hides most of the sky */
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
 /* Thin lens: every lens sample through a film point meets the same point on
  * the plane in focus; the pinhole's ray goes through it too. Env map
  * conventions: uv and direction are inverse maps, the centre looks along -z
@@ -532,6 +561,7 @@ int main(void)
         cmocka_unit_test(mask_filters_remove_background),
         cmocka_unit_test(light_sampling_densities),
         cmocka_unit_test(camera_lens_and_envmap_conventions),
+        cmocka_unit_test(lights_hide_what_lies_behind_them),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,181 @@
+/* Long validations of the feather BSDF and the renderer (label slow):
+ * chi-square of sample against pdf and the white furnace over random
+ * feathers and views (both sides of the vane), and the three estimators
+ * agreeing on a pelt of instanced, partly transparent feathers. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "render/render.h"
+#include "test_feather_bsdf_stats.h"
+#include "test_render_stats.h"
+
+enum { CONFIGS = 40 };
+
+static double uniform(plm_rng *rng, double lo, double hi) { return lo + (hi - lo) * plm_rng_uniform(rng); }
+
+/* A random feather over the paper's explored ranges (REFERENCES.md); clear = no absorption, white medulla. */
+static plm_feather_params random_params(plm_rng *rng, int clear)
+{
+    for (;;) {
+        plm_feather_params p;
+        plm_feather_params_default(&p);
+        p.masking.barb_eccentricity = uniform(rng, 1.0, 3.0);
+        p.masking.barbule_eccentricity = uniform(rng, 1.0, 3.0);
+        p.masking.barbule_length = uniform(rng, 1.0, 4.0);
+        p.masking.barbule_separation = uniform(rng, 0.1, 3.0);
+        p.masking.barbule_inclination = plm_radians(uniform(rng, 0.0, 60.0));
+        p.masking.barbule_rotation = plm_radians(uniform(rng, 30.0, 60.0));
+        plm_fiber_params *f[2] = {&p.barb, &p.barbule};
+        for (int k = 0; k < 2; ++k) {
+            f[k]->eccentricity = uniform(rng, 1.0, 2.0);
+            f[k]->beta_m = uniform(rng, 0.1, 0.4);
+            f[k]->beta_n = uniform(rng, 0.1, 0.4);
+            f[k]->sigma_a = clear ? rgb_gray(0.0) : rgb_make(uniform(rng, 0, 2), uniform(rng, 0, 2), uniform(rng, 0, 2));
+        }
+        double r = uniform(rng, 0.0, 0.6);
+        p.barb.medulla_a = p.barb.medulla_b = r;
+        p.barb.medulla_ca = uniform(rng, -0.2, 0.2);
+        p.barb.medulla_cb = uniform(rng, -0.2, 0.2);
+        p.barb.medulla_reflectance = clear ? rgb_gray(1.0) : rgb_make(uniform(rng, 0, 1), uniform(rng, 0, 1), 1.0);
+        if (r == 0.0)
+            p.barb.medulla_ca = p.barb.medulla_cb = 0.0;
+        plm_error err;
+        if (plm_feather_params_validate(&p, &err) == PLM_OK)
+            return p;
+    }
+}
+
+static void sampling_matches_pdf_over_random_feathers(void **state)
+{
+    (void)state;
+    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / CONFIGS); /* Sidak */
+    plm_rng rng;
+    plm_rng_seed(&rng, 2024, 1);
+    for (int c = 0; c < CONFIGS; ++c) {
+        plm_feather_params p = random_params(&rng, 0);
+        plm_material m = feather_material(&p, uniform(&rng, 0.3, 2.8));
+        plm_hit hit = plane_hit(&m);
+        vec3 wo = plm_sample_uniform_sphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
+        plm_bsdf b;
+        plm_material_bsdf(&hit, wo, &rng, &b);
+        const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
+        if (f->pick[0] + f->pick[1] + f->pick[2] > 0.0) {
+            double pv = chi_square(&b, &rng, 300000);
+            fprintf(stderr, "config %2d: view (%.2f, %.2f, %.2f), w_t %.3f, p-value %.4f\n", c, wo.x, wo.y, wo.z,
+                    f->masking.w_transmission, pv);
+            if (!(pv > threshold))
+                fail_msg("config %d: p-value %.6f below %.6f", c, pv, threshold);
+        }
+        free_material(&m);
+    }
+}
+
+static void white_furnace_over_random_feathers(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 77, 2);
+    double albedo_sum = 0.0;
+    for (int c = 0; c < CONFIGS; ++c) {
+        plm_feather_params p = random_params(&rng, 1);
+        plm_material m = feather_material(&p, uniform(&rng, 0.3, 2.8));
+        plm_hit hit = plane_hit(&m);
+        vec3 wo = plm_sample_uniform_sphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
+        plm_bsdf b;
+        plm_material_bsdf(&hit, wo, &rng, &b);
+        const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
+        double lobe_energy = 0.0;
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < f->set[k].count; ++j)
+                lobe_energy += f->weight[k] * rgb_mean(f->set[k].throughput[j]);
+        double integral, se;
+        integrate_eval(&b, &rng, 1000000, &integral, &se);
+        double wt = f->masking.w_transmission, albedo = (1.0 - wt) * lobe_energy + wt;
+        fprintf(stderr, "config %2d: integral %.4f +- %.4f, lobe energy %.4f, w_t %.3f, albedo %.4f\n", c, integral,
+                se, lobe_energy, wt, albedo);
+        if (fabs(integral - lobe_energy) > 4.5 * se + 1e-3)
+            fail_msg("config %d: integral of f|cos| %.4f +- %.4f, lobe energy %.4f", c, integral, se, lobe_energy);
+        assert_true(albedo <= 1.0 + 1e-9);
+        albedo_sum += albedo;
+        free_material(&m);
+    }
+    assert_true(albedo_sum / CONFIGS > 0.95);
+}
+
+/* 100 feathers (vane quads with a feather texture cut into an ogive) lying
+ * like tiles over a floor, an environment map and a quad light. */
+static void estimators_agree_on_a_pelt(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    plm_rng rng;
+    plm_rng_seed(&rng, 9, 9);
+    plm_feather_params p = random_params(&rng, 0);
+    plm_material m = feather_material(&p, 1.0);
+    for (int y = 0; y < 4; ++y) /* cut the corners away: background texels */
+        for (int x = 0; x < 4; ++x)
+            if ((x == 0 || x == 3) && (y == 0 || y == 3))
+                m.texture.region[y * 4 + x] = PLM_REGION_BACKGROUND;
+    plm_mesh quad, floor;
+    plm_error err;
+    assert_int_equal(plm_shape_quad(0.5, 1.0, 1.0, 16, &quad, &err), PLM_OK);
+    assert_int_equal(plm_shape_quad(20, 20, 0, 1, &floor, &err), PLM_OK);
+    int qm = plm_scene_add_mesh(&s, "vane", &quad), fm = plm_scene_add_mesh(&s, "floor", &floor);
+    int fmat = plm_scene_add_material(&s, &m);
+    plm_material grey;
+    memset(&grey, 0, sizeof grey);
+    snprintf(grey.name, sizeof grey.name, "grey");
+    grey.reflectance = rgb_gray(0.4);
+    plm_instance fl = {fm, plm_scene_add_material(&s, &grey), plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2), rgb_gray(1)};
+    plm_scene_add_instance(&s, &fl);
+    for (int i = 0; i < 100; ++i) {
+        plm_xform lay = plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2 + 0.3);
+        plm_xform turn = plm_xform_rotate(v3(0, 1, 0), uniform(&rng, -0.3, 0.3));
+        plm_xform at = plm_xform_translate(v3(0.3 * (i % 10) - 1.35, 0.1 + 0.05 * plm_rng_uniform(&rng), 0.3 * (i / 10) - 1.35));
+        plm_xform x = plm_xform_compose(&turn, &lay);
+        x = plm_xform_compose(&at, &x);
+        plm_instance in = {qm, fmat, x, rgb_make(1.0, uniform(&rng, 0.6, 1.0), 0.9)};
+        plm_scene_add_instance(&s, &in);
+    }
+    plm_light q;
+    memset(&q, 0, sizeof q);
+    q.type = PLM_LIGHT_QUAD;
+    q.corner = v3(-1, 3, -1);
+    q.edge_u = v3(2, 0, 0);
+    q.edge_v = v3(0, 0, 2);
+    q.radiance = rgb_gray(3.0);
+    plm_scene_add_light(&s, &q);
+    plm_light sky;
+    memset(&sky, 0, sizeof sky);
+    sky.type = PLM_LIGHT_CONSTANT_ENV;
+    sky.radiance = rgb_make(0.3, 0.4, 0.5);
+    plm_scene_add_light(&s, &sky);
+    s.camera = (plm_camera_desc){v3(0, 2.5, 3.5), v3(0, 0, 0), v3(0, 1, 0), 45, 0, 0, 1};
+    s.film.width = 64, s.film.height = 48;
+    plm_world w;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    estimate mis = film_mean(&w, PLM_ESTIMATOR_MIS, 8, 300000, 1);
+    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 8, 300000, 2);
+    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 8, 600000, 3);
+    fprintf(stderr, "pelt: MIS %.5f +- %.5f, NEE %.5f +- %.5f, BSDF %.5f +- %.5f\n", mis.mean, mis.se, nee.mean, nee.se,
+            bsdf.mean, bsdf.se);
+    assert_agree(mis, nee, 4.5);
+    assert_agree(mis, bsdf, 4.5);
+    assert_agree(nee, bsdf, 4.5);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(sampling_matches_pdf_over_random_feathers),
+        cmocka_unit_test(white_furnace_over_random_feathers),
+        cmocka_unit_test(estimators_agree_on_a_pelt),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
