@@ -54,8 +54,15 @@ static double gm_scale(double Theta, double inv_s, double unit)
 /* Wraps an angle difference of two angles in [-pi, pi] into [-pi, pi]. */
 static double wrap_pi(double d) { return d > PLM_PI ? d - PLM_TWO_PI : d < -PLM_PI ? d + PLM_TWO_PI : d; }
 
-/* Terms of a Gaussian further than this many std-devs (e^-50 relative) are skipped. */
+/* Terms of a Gaussian further than this many std-devs (e^-50 relative) are
+ * skipped, in both detectors alike, so most lobes cost no exponential. */
 #define GAUSSIAN_CUTOFF 10.0
+
+/* e^(-dt^2 / (2 beta_m^2)), zero beyond the cutoff. */
+static double gm_unnormalised(double dt, double beta, double inv2b2)
+{
+    return fabs(dt) < GAUSSIAN_CUTOFF * beta ? exp(-dt * dt * inv2b2) : 0.0;
+}
 
 /* sqrt(2 pi) beta G_N(dphi): the wrapped Gaussian on the circle, dphi in [-pi, pi]. */
 static double gn_unnormalised(double dphi, double beta)
@@ -123,12 +130,13 @@ static void detector_sums_at(const plm_fiber_params *p, const plm_fiber_lobe_set
     /* With beta_n < pi / cutoff only the unwrapped term of G_N can matter, and
      * one exponential serves both detectors. */
     int single_wrap = GAUSSIAN_CUTOFF * p->beta_n <= PLM_PI;
+    double cut_m = GAUSSIAN_CUTOFF * p->beta_m, cut_n = GAUSSIAN_CUTOFF * p->beta_n;
     for (int k = 0; k < set->count; ++k) {
         double dt = theta - set->theta[k], dp = wrap_pi(phi - set->phi[k]), d;
         if (single_wrap)
-            d = fabs(dp) < GAUSSIAN_CUTOFF * p->beta_n ? exp(-dt * dt * inv2bm2 - dp * dp * inv2bn2) : 0.0;
+            d = fabs(dt) < cut_m && fabs(dp) < cut_n ? exp(-dt * dt * inv2bm2 - dp * dp * inv2bn2) : 0.0;
         else
-            d = exp(-dt * dt * inv2bm2) * gn_unnormalised(dp, p->beta_n);
+            d = gm_unnormalised(dt, p->beta_m, inv2bm2) * gn_unnormalised(dp, p->beta_n);
         d *= set->gm_scale[k] * gn_scale;
         *f_sum = rgb_add(*f_sum, rgb_scale(set->throughput[k], d));
         *p_sum += (set->cdf[k + 1] - set->cdf[k]) * d;
@@ -147,14 +155,15 @@ static int detector_sums(const plm_fiber_params *p, const plm_fiber_lobe_set *se
         *p_sum = 0.0;
         return 0;
     }
-    detector_sums_at(p, set, atan2(wi.z, ct), atan2(wi.y, wi.x), f_sum, p_sum);
+    /* asin is cheaper than atan2 and as accurate away from the poles. */
+    double theta = fabs(wi.z) < 0.9 ? asin(wi.z) : atan2(wi.z, ct);
+    detector_sums_at(p, set, theta, atan2(wi.y, wi.x), f_sum, p_sum);
     return 1;
 }
 
 double plm_fiber_lobe_gm(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int k, double theta)
 {
-    double dt = theta - set->theta[k];
-    return set->gm_scale[k] * exp(-0.5 * dt * dt / (p->beta_m * p->beta_m));
+    return set->gm_scale[k] * gm_unnormalised(theta - set->theta[k], p->beta_m, 0.5 / (p->beta_m * p->beta_m));
 }
 
 double plm_fiber_lobe_gn(const plm_fiber_params *p, const plm_fiber_lobe_set *set, int k, double phi)
