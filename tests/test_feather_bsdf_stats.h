@@ -66,6 +66,31 @@ static void integrate_eval(const plm_bsdf *b, plm_rng *rng, int n, double *mean,
     *se = sqrt(fmax(sum2 / n - *mean * *mean, 0.0) / n);
 }
 
+/* White furnace of one prepared BSDF at a hit: the integral of eval (f|cos|
+ * divided by 1 - w_t) over the sphere, by n uniform samples, must equal the
+ * weighted lobe energy of its lobe sets within z_max standard errors.
+ * Returns the albedo (1 - w_t) x lobe energy + w_t, which is at most 1. */
+static double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, double z_max, const char *label)
+{
+    plm_bsdf b;
+    plm_material_bsdf(hit, wo, rng, &b);
+    const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
+    double lobe_energy = 0.0;
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < f->set[k].count; ++j)
+            lobe_energy += f->weight[k] * rgb_mean(f->set[k].throughput[j]);
+    double integral, se;
+    integrate_eval(&b, rng, n, &integral, &se);
+    double wt = plm_material_transmission(hit, wo), albedo = (1.0 - wt) * lobe_energy + wt;
+    fprintf(stderr, "%s: integral %.4f +- %.4f, lobe energy %.4f, w_t %.3f, albedo %.4f\n", label, integral, se,
+            lobe_energy, wt, albedo);
+    if (fabs(integral - lobe_energy) > z_max * se + 1e-3)
+        fail_msg("%s: integral of f|cos| %.4f +- %.4f, lobe energy %.4f", label, integral, se, lobe_energy);
+    assert_float_equal(wt, f->masking.w_transmission, 1e-15);
+    assert_true(albedo <= 1.0 + 1e-9);
+    return albedo;
+}
+
 /* Upper tail of the chi-square distribution (Wilson-Hilferty cube-root normal approximation). */
 static double chi2_p_value(double chi2, int dof)
 {
