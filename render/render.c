@@ -31,7 +31,10 @@ typedef struct job {
     atomic_llong nonfinite;
     atomic_int stop;           /* set once a cancel was seen: no new tiles */
     atomic_int finished_threads;
-    pthread_barrier_t barrier;
+    pthread_barrier_t barrier;  /* between passes, for the threads that did start */
+    pthread_mutex_t gate_lock;  /* workers wait here until the barrier knows how many they are */
+    pthread_cond_t gate;
+    int gate_open;
 } job;
 
 static double now_seconds(void)
@@ -97,6 +100,10 @@ static void render_tile(job *j, int tile, int s0, int s1)
 static void *worker(void *arg)
 {
     job *j = arg;
+    pthread_mutex_lock(&j->gate_lock);
+    while (!j->gate_open)
+        pthread_cond_wait(&j->gate, &j->gate_lock);
+    pthread_mutex_unlock(&j->gate_lock);
     for (int p = 0; p < j->pass_count; ++p) {
         for (;;) {
             if (j->opt->cancel && *j->opt->cancel)
@@ -171,18 +178,23 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     j->tiles_x = (film->width + TILE - 1) / TILE;
     j->tile_count = j->tiles_x * ((film->height + TILE - 1) / TILE);
     plan_passes(j);
-    pthread_barrier_init(&j->barrier, NULL, (unsigned)film->threads);
+    pthread_mutex_init(&j->gate_lock, NULL);
+    pthread_cond_init(&j->gate, NULL);
 
+    /* Start the threads, then size the barrier to those that did start and open the gate. */
     double t0 = now_seconds(), last_draw = t0;
     int started = 0;
     for (; started < film->threads; ++started)
         if (pthread_create(&threads[started], NULL, worker, j) != 0)
             break;
-    if (started < film->threads) { /* cannot happen in practice; the barrier would never open */
-        atomic_store(&j->stop, 1);
-        fprintf(stderr, "plumage: could not start %d threads\n", film->threads);
-        abort();
-    }
+    film->threads = started > 0 ? started : 1;
+    pthread_barrier_init(&j->barrier, NULL, (unsigned)film->threads);
+    pthread_mutex_lock(&j->gate_lock);
+    j->gate_open = 1;
+    pthread_cond_broadcast(&j->gate);
+    pthread_mutex_unlock(&j->gate_lock);
+    if (started == 0) /* no thread at all: render on this one */
+        worker(j);
     while (atomic_load(&j->finished_threads) < film->threads) {
         struct timespec nap = {0, 50 * 1000 * 1000};
         nanosleep(&nap, NULL);
@@ -192,12 +204,14 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
             last_draw = t;
         }
     }
-    for (int i = 0; i < film->threads; ++i)
+    for (int i = 0; i < started; ++i)
         pthread_join(threads[i], NULL);
     film->seconds = now_seconds() - t0;
     if (opt->progress)
         draw_progress(j, film->seconds, 1);
     pthread_barrier_destroy(&j->barrier);
+    pthread_cond_destroy(&j->gate);
+    pthread_mutex_destroy(&j->gate_lock);
 
     for (size_t p = 0; p < pixels; ++p)
         for (int c = 0; c < 3; ++c)
