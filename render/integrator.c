@@ -121,6 +121,8 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         if (!plm_bsdf_sample(&bsdf, u0, u1, u2, &s))
             break;
         beta = rgb_mul(beta, s.weight);
+        if (rgb_is_black(beta)) /* nothing more can arrive (and 0 x an infinite sky would be NaN) */
+            break;
         prev_pdf = s.pdf;
         prev_p = seg.hit.p;
         d = s.wi;

@@ -336,6 +336,28 @@ static void bit_identical_at_any_thread_count(void **state)
     plm_scene_free(&s);
 }
 
+/* Non-finite samples are counted and dropped, never written: a sky of
+ * infinite radiance seen by half the image, a finite one lighting the rest. */
+static void nonfinite_samples_are_counted_and_dropped(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    add_light(&s, constant_env(INFINITY));
+    add_object(&s, add_quad_mesh(&s, "wall", 100, 100, 0), add_diffuse(&s, "black", rgb_gray(0.0), 0.0),
+               plm_xform_translate(v3(50, 0, 0))); /* covers the right half of the view */
+    look(&s, v3(0, 0, 5), v3(0, 0, 0), v3(0, 1, 0), 40, 16, 16, 2);
+    plm_render_options opt = {0};
+    plm_film f;
+    plm_error err;
+    assert_int_equal(plm_render(&s, &opt, &f, &err), PLM_OK);
+    assert_true(f.nonfinite > 0 && f.nonfinite < f.sample_count);
+    for (int i = 0; i < 16 * 16 * 3; ++i)
+        assert_true(isfinite(f.rgb[i]));
+    plm_film_free(&f);
+    plm_scene_free(&s);
+}
+
 /* A cancelled render stops early, normalises by the samples it took and never leaves NaN. */
 static void cancelled_render_keeps_what_it_took(void **state)
 {
@@ -558,6 +580,7 @@ int main(void)
         cmocka_unit_test(transmittance_through_stacked_sheets),
         cmocka_unit_test(bit_identical_at_any_thread_count),
         cmocka_unit_test(cancelled_render_keeps_what_it_took),
+        cmocka_unit_test(nonfinite_samples_are_counted_and_dropped),
         cmocka_unit_test(mask_filters_remove_background),
         cmocka_unit_test(light_sampling_densities),
         cmocka_unit_test(camera_lens_and_envmap_conventions),
