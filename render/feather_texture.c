@@ -64,6 +64,9 @@ static void texel_coords(const plm_feather_texture *t, vec2 uv, double *x, doubl
     *y = (1.0 - plm_clamp(uv.y, 0.0, 1.0)) * t->height - 0.5;
 }
 
+/* Nearest integer of a texel coordinate, which is at least -0.5 (uv is clamped). */
+static long nearest(double x) { return (long)(x + 0.5); }
+
 static long texel_index(const plm_feather_texture *t, long x, long y)
 {
     x = x < 0 ? 0 : (x >= t->width ? t->width - 1 : x);
@@ -75,21 +78,21 @@ plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv)
 {
     double x, y;
     texel_coords(t, uv, &x, &y);
-    return (plm_region)t->region[texel_index(t, lround(x), lround(y))];
+    return (plm_region)t->region[texel_index(t, nearest(x), nearest(y))];
 }
 
 vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
 {
     double x, y;
     texel_coords(t, uv, &x, &y);
-    long nearest = texel_index(t, lround(x), lround(y));
+    long centre = texel_index(t, nearest(x), nearest(y));
     long x0 = (long)floor(x), y0 = (long)floor(y);
     double fx = x - x0, fy = y - y0;
     vec2 sum = v2(0.0, 0.0);
     for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
             long i = texel_index(t, x0 + dx, y0 + dy);
-            if (t->region[i] != t->region[nearest])
+            if (t->region[i] != t->region[centre])
                 continue;
             double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
             sum = v2_add(sum, v2_scale(v2(2.0 * t->pixels[3 * i] - 1.0, 2.0 * t->pixels[3 * i + 1] - 1.0), w));
@@ -98,7 +101,7 @@ vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
     if (len > 1e-6)
         return v2_scale(sum, 1.0 / len);
     /* Opposite directions cancelled (a texture error) or a zero texel: use the nearest alone. */
-    vec2 d = v2(2.0 * t->pixels[3 * nearest] - 1.0, 2.0 * t->pixels[3 * nearest + 1] - 1.0);
+    vec2 d = v2(2.0 * t->pixels[3 * centre] - 1.0, 2.0 * t->pixels[3 * centre + 1] - 1.0);
     len = v2_length(d);
     return len > 1e-6 ? v2_scale(d, 1.0 / len) : v2(0.0, 1.0);
 }

@@ -61,6 +61,47 @@ static void barb_frame_follows_texture_and_tip(void **state)
     assert_false(plm_feather_barb_frame(v3(0, 0, 1), v3(0, 0, 0), v3(0, 0, 0), v2(1, 0), &f));
 }
 
+static void set_texel(float *px, int i, double angle, float region)
+{
+    px[3 * i] = (float)((cos(angle) + 1) / 2), px[3 * i + 1] = (float)((sin(angle) + 1) / 2), px[3 * i + 2] = region;
+}
+
+/* The texture contract: region by nearest texel (v = 0 is the bottom row),
+ * directions filtered only among texels of the same region, and averaged as
+ * vectors so angles near +-180 degrees do not wrap to 0. */
+static void texture_lookups_keep_regions_and_angles(void **state)
+{
+    (void)state;
+    float *px = malloc(sizeof(float) * 4 * 2 * 3);
+    /* top row: vane at 179 deg, vane at -179 deg, rachis at 90 deg, background at 0 deg */
+    set_texel(px, 0, plm_radians(179.0), 1.0f), set_texel(px, 1, plm_radians(-179.0), 1.0f);
+    set_texel(px, 2, plm_radians(90.0), 0.5f), set_texel(px, 3, 0.0, 0.0f);
+    for (int i = 4; i < 8; ++i) /* bottom row: vane at 10 deg */
+        set_texel(px, i, plm_radians(10.0), 1.0f);
+    plm_feather_texture t;
+    plm_error err;
+    assert_int_equal(plm_feather_texture_from_pixels(4, 2, px, &t, &err), PLM_OK);
+    assert_int_equal(plm_feather_texture_region(&t, v2(0.1, 0.9)), PLM_REGION_VANE);
+    assert_int_equal(plm_feather_texture_region(&t, v2(0.6, 0.9)), PLM_REGION_RACHIS);
+    assert_int_equal(plm_feather_texture_region(&t, v2(0.9, 0.9)), PLM_REGION_BACKGROUND);
+    assert_int_equal(plm_feather_texture_region(&t, v2(0.9, 0.1)), PLM_REGION_VANE);
+    /* Between the 179 and -179 degree texels: 180 degrees, not 0. */
+    vec2 d = plm_feather_texture_direction(&t, v2(0.25, 0.75));
+    assert_float_equal(d.x, -1.0, 1e-4);
+    assert_float_equal(v2_length(d), 1.0, 1e-12);
+    /* A vane point next to the rachis: bilinear weights (0.35, 0.15 | 0.35, 0.15)
+     * over texels (-179, rachis | 10, 10); the rachis's 90 degrees never enters. */
+    d = plm_feather_texture_direction(&t, v2(0.45, 0.5));
+    vec2 mean = v2_normalize(v2_add(v2_scale(v2(cos(plm_radians(-179.0)), sin(plm_radians(-179.0))), 0.35),
+                                    v2_scale(v2(cos(plm_radians(10.0)), sin(plm_radians(10.0))), 0.5)));
+    assert_float_equal(d.x, mean.x, 1e-4);
+    assert_float_equal(d.y, mean.y, 1e-4);
+    /* On the rachis texel: its own direction, whatever its vane neighbours say. */
+    d = plm_feather_texture_direction(&t, v2(0.62, 0.8));
+    assert_float_equal(atan2(d.y, d.x), PLM_PI / 2, 1e-3);
+    plm_feather_texture_free(&t);
+}
+
 /* White furnace: without absorption the albedo, the integral of f |cos| plus
  * w_t, is 1 minus what the fiber lobes lose (light still inside after N
  * lobes). For each prepared BSDF, the integral of eval equals the weighted
@@ -222,6 +263,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(barb_frame_follows_texture_and_tip),
+        cmocka_unit_test(texture_lookups_keep_regions_and_angles),
         cmocka_unit_test(white_furnace_of_the_bsdf),
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(prepared_bsdf_is_deterministic),
