@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 
 double plm_bench_seconds(void)
 {
@@ -44,13 +45,7 @@ double plm_bench_peak_mib(void)
     return (double)ru.ru_maxrss / 1024.0; /* Linux reports KiB */
 }
 
-typedef struct bench {
-    const char *name;
-    int (*run)(int argc, char **argv);
-    const char *summary;
-} bench;
-
-static const bench benches[] = {
+static const plm_subcommand benches[] = {
     {"masking", bench_masking, "ns per full barb/barbule masking call over random directions"},
     {"generate", bench_generate, "one flight feather in memory: meshes + 1024x1024 textures, ms and peak memory"},
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
@@ -58,27 +53,7 @@ static const bench benches[] = {
     {NULL, NULL, NULL}, /* sentinel: benchmarks are added here as the parts land */
 };
 
-static void usage(FILE *out)
-{
-    fprintf(out, "usage: plumage bench <what> [options]\n\nbenchmarks:\n");
-    for (const bench *b = benches; b->name; ++b)
-        fprintf(out, "  %-10s %s\n", b->name, b->summary);
-}
-
 int cmd_bench(int argc, char **argv)
 {
-    if (argc < 2) {
-        usage(stderr);
-        return 2;
-    }
-    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
-        usage(stdout);
-        return 0;
-    }
-    for (const bench *b = benches; b->name; ++b)
-        if (strcmp(argv[1], b->name) == 0)
-            return b->run(argc - 1, argv + 1);
-    fprintf(stderr, "error: unknown benchmark '%s'\n\n", argv[1]);
-    usage(stderr);
-    return 2;
+    return plm_dispatch("plumage bench <what> [options]", "benchmark", benches, argc, argv);
 }

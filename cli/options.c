@@ -180,3 +180,28 @@ int plm_read_numbers(FILE *in, const char *command, long *line_number, double *v
     }
     return 0;
 }
+
+static void print_table(FILE *out, const char *usage_line, const char *kind, const plm_subcommand *table)
+{
+    fprintf(out, "usage: %s\n\n%ss:\n", usage_line, kind);
+    for (const plm_subcommand *c = table; c->name; ++c)
+        fprintf(out, "  %-10s %s\n", c->name, c->summary);
+}
+
+int plm_dispatch(const char *usage_line, const char *kind, const plm_subcommand *table, int argc, char **argv)
+{
+    if (argc < 2) {
+        print_table(stderr, usage_line, kind, table);
+        return 2;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
+        print_table(stdout, usage_line, kind, table);
+        return 0;
+    }
+    for (const plm_subcommand *c = table; c->name; ++c)
+        if (strcmp(argv[1], c->name) == 0)
+            return c->run(argc - 1, argv + 1);
+    fprintf(stderr, "error: unknown %s '%s'\n\n", kind, argv[1]);
+    print_table(stderr, usage_line, kind, table);
+    return 2;
+}

@@ -46,4 +46,15 @@ void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *o
  * input, -1 on a malformed line (message on stderr with the line number). */
 int plm_read_numbers(FILE *in, const char *command, long *line_number, double *values, int n);
 
+/* A table of subcommands (NULL-terminated) and the one dispatcher that
+ * serves `plumage`, `plumage probe` and `plumage bench`: usage on no
+ * argument (exit 2) or --help (exit 0), an error naming an unknown entry. */
+typedef struct plm_subcommand {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} plm_subcommand;
+
+int plm_dispatch(const char *usage_line, const char *kind, const plm_subcommand *table, int argc, char **argv);
+
 #endif
