@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include "render/render.h"
 #include "test_feather_bsdf_stats.h"

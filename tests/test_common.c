@@ -4,6 +4,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,7 +50,7 @@ static void distribution_matches_weights(void **state)
     (void)state;
     double w[5] = {1.0, 0.0, 3.0, 0.0, 4.0}, cdf[6];
     plm_distribution1d d = plm_distribution1d_build(w, 5, cdf);
-    assert_float_equal(d.total, 8.0, 1e-12);
+    assert_double_near(d.total, 8.0, 1e-12);
     int counts[5] = {0};
     plm_rng rng;
     plm_rng_seed(&rng, 1, 1);
@@ -64,7 +65,7 @@ static void distribution_matches_weights(void **state)
     assert_int_equal(counts[3], 0);
     for (int k = 0; k < 5; ++k) {
         double p = w[k] / 8.0;
-        assert_float_equal(plm_distribution1d_pmf(&d, k), p, 1e-12);
+        assert_double_near(plm_distribution1d_pmf(&d, k), p, 1e-12);
         assert_true(fabs(counts[k] - n * p) <= 5.0 * sqrt(n * p * (1 - p)) + 1e-9);
     }
 }
@@ -79,11 +80,11 @@ static void cosine_hemisphere_has_expected_moments(void **state)
     int n = 400000;
     for (int i = 0; i < n; ++i) {
         vec3 w = plm_sample_cosine_hemisphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
-        assert_float_equal(v3_length(w), 1.0, 1e-9);
+        assert_double_near(v3_length(w), 1.0, 1e-9);
         assert_true(w.z >= 0.0);
         sum += w.z;
     }
-    assert_float_equal(sum / n, 2.0 / 3.0, 3e-3);
+    assert_double_near(sum / n, 2.0 / 3.0, 3e-3);
 }
 
 static const char *write_temp(const char *name, const char *text)
@@ -118,7 +119,7 @@ static void json_errors_name_file_field_and_range(void **state)
     assert_non_null(strstr(err.message, "camera.extra: unknown field"));
     double missing;
     assert_int_equal(plm_json_number(&r, camera, "camera", "near", 0.5, 0, 1, &missing), PLM_OK);
-    assert_float_equal(missing, 0.5, 0.0);
+    assert_double_near(missing, 0.5, 0.0);
     cJSON_Delete(root);
     remove(good);
 }
@@ -166,11 +167,11 @@ static void image_round_trips_through_exr_and_png16(void **state)
     assert_int_equal(plm_image_read(exr, &w, &h, &c, &back, &err), PLM_OK);
     assert_int_equal(w * 10 + h * 100 + c, 3 * 10 + 2 * 100 + 3);
     for (int i = 0; i < 18; ++i)
-        assert_float_equal(back[i], px[i], 1e-6);
+        assert_double_near(back[i], px[i], 1e-6);
     free(back);
     assert_int_equal(plm_image_read(png, &w, &h, &c, &back, &err), PLM_OK);
     for (int i = 0; i < 18; ++i)
-        assert_float_equal(back[i], px16[i] / 65535.0, 1e-6);
+        assert_double_near(back[i], px16[i] / 65535.0, 1e-6);
     free(back);
     remove(exr);
     remove(png);

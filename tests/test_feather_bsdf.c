@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -50,11 +51,11 @@ static void barb_frame_follows_texture_and_tip(void **state)
         assert_true(plm_feather_barb_frame(v3(0, 0, 1), v3(2, 0, 0), v3(0, 1, 0), v2(cos(a), sin(a)), &f));
         /* t follows the uv direction through the Jacobian: dP/du is twice as long as dP/dv. */
         vec3 t = v3_normalize(v3(2 * cos(a), sin(a), 0));
-        assert_float_equal(v3_dot(f.z, t), 1.0, 1e-12);
-        assert_float_equal(v3_dot(f.x, f.z), 0.0, 1e-12);
-        assert_float_equal(v3_length(f.x), 1.0, 1e-12);
+        assert_double_near(v3_dot(f.z, t), 1.0, 1e-12);
+        assert_double_near(v3_dot(f.x, f.z), 0.0, 1e-12);
+        assert_double_near(v3_length(f.x), 1.0, 1e-12);
         assert_true(v3_dot(f.x, v3(0, 1, 0)) > 0.0); /* distal side toward the tip */
-        assert_float_equal(f.y.z, 1.0, 0);
+        assert_double_near(f.y.z, 1.0, 0);
     }
     /* Degenerate tangents are refused. */
     frame f;
@@ -87,18 +88,18 @@ static void texture_lookups_keep_regions_and_angles(void **state)
     assert_int_equal(plm_feather_texture_region(&t, v2(0.9, 0.1)), PLM_REGION_VANE);
     /* Between the 179 and -179 degree texels: 180 degrees, not 0. */
     vec2 d = plm_feather_texture_direction(&t, v2(0.25, 0.75));
-    assert_float_equal(d.x, -1.0, 1e-4);
-    assert_float_equal(v2_length(d), 1.0, 1e-12);
+    assert_double_near(d.x, -1.0, 1e-4);
+    assert_double_near(v2_length(d), 1.0, 1e-12);
     /* A vane point next to the rachis: bilinear weights (0.35, 0.15 | 0.35, 0.15)
      * over texels (-179, rachis | 10, 10); the rachis's 90 degrees never enters. */
     d = plm_feather_texture_direction(&t, v2(0.45, 0.5));
     vec2 mean = v2_normalize(v2_add(v2_scale(v2(cos(plm_radians(-179.0)), sin(plm_radians(-179.0))), 0.35),
                                     v2_scale(v2(cos(plm_radians(10.0)), sin(plm_radians(10.0))), 0.5)));
-    assert_float_equal(d.x, mean.x, 1e-4);
-    assert_float_equal(d.y, mean.y, 1e-4);
+    assert_double_near(d.x, mean.x, 1e-4);
+    assert_double_near(d.y, mean.y, 1e-4);
     /* On the rachis texel: its own direction, whatever its vane neighbours say. */
     d = plm_feather_texture_direction(&t, v2(0.62, 0.8));
-    assert_float_equal(atan2(d.y, d.x), PLM_PI / 2, 1e-3);
+    assert_double_near(atan2(d.y, d.x), PLM_PI / 2, 1e-3);
     plm_feather_texture_free(&t);
 }
 

@@ -86,7 +86,7 @@ static double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, d
             lobe_energy, wt, albedo);
     if (fabs(integral - lobe_energy) > z_max * se + 1e-3)
         fail_msg("%s: integral of f|cos| %.4f +- %.4f, lobe energy %.4f", label, integral, se, lobe_energy);
-    assert_float_equal(wt, f->masking.w_transmission, 1e-15);
+    assert_double_near(wt, f->masking.w_transmission, 1e-15);
     assert_true(albedo <= 1.0 + 1e-9);
     return albedo;
 }

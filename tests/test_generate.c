@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -222,7 +223,7 @@ static void check_triangles(const plm_mesh *m, double max_angle)
             flipped += !(v3_dot(v3_normalize(cr), nrm(m, i[k])) > cos(plm_radians(max_angle)));
     }
     for (int v = 0; v < m->vertex_count; ++v)
-        assert_float_equal(v3_length(nrm(m, (uint32_t)v)), 1.0, 1e-5);
+        assert_double_near(v3_length(nrm(m, (uint32_t)v)), 1.0, 1e-5);
     assert_int_equal(degenerate, 0);
     assert_int_equal(flipped, 0);
 }
@@ -240,7 +241,7 @@ static void vanes_are_clean_open_disks(void **state)
             for (int k = 0; k < 2; ++k)
                 assert_true(m->uvs[2 * v + k] >= 0.0f && m->uvs[2 * v + k] <= 1.0f);
             vec3 t = v3(m->tangents[3 * v], m->tangents[3 * v + 1], m->tangents[3 * v + 2]);
-            assert_float_equal(v3_length(t), 1.0, 1e-5);
+            assert_double_near(v3_length(t), 1.0, 1e-5);
             assert_true(fabs(v3_dot(t, nrm(m, (uint32_t)v))) < 1e-4);
         }
         plm_feather_free(&f);
@@ -306,11 +307,11 @@ static void length_and_widths_match_the_parameters(void **state)
     }
     /* The domed ends of the smooth tube overshoot the end points slightly
      * (0.1% measured); the issue asks for 1%, this asks for 0.3%. */
-    assert_float_equal(lo, 0.0, 3e-3 * sp.shape.length);
-    assert_float_equal(hi, sp.shape.length, 3e-3 * sp.shape.length);
-    assert_float_equal(hi - lo, sp.shape.length, 3e-3 * sp.shape.length);
-    assert_float_equal(vlo, sp.shape.calamus_length, 1e-4 * sp.shape.length);
-    assert_float_equal(vhi, sp.shape.length, 1e-4 * sp.shape.length);
+    assert_double_near(lo, 0.0, 3e-3 * sp.shape.length);
+    assert_double_near(hi, sp.shape.length, 3e-3 * sp.shape.length);
+    assert_double_near(hi - lo, sp.shape.length, 3e-3 * sp.shape.length);
+    assert_double_near(vlo, sp.shape.calamus_length, 1e-4 * sp.shape.length);
+    assert_double_near(vhi, sp.shape.length, 1e-4 * sp.shape.length);
     /* Mesh extent per side at the width profile's control points (away from
      * the tip): at least the parameter, at most 1% (plus a row's change) more. */
     const plm_outline *o = &f.outline;
@@ -347,22 +348,22 @@ static void bends_turn_the_rachis_by_their_angles(void **state)
     for (int i = 0; i < n; ++i)
         arc += v3_length(v3_sub(plm_rachis_frame_at(&o, sh->length * (i + 1) / n).c,
                                 plm_rachis_frame_at(&o, sh->length * i / n).c));
-    assert_float_equal(arc, sh->length, 1e-6 * sh->length);
+    assert_double_near(arc, sh->length, 1e-6 * sh->length);
     plm_rachis_frame tip = plm_rachis_frame_at(&o, sh->length);
-    assert_float_equal(plm_degrees(atan2(tip.t.x, tip.t.y)), 30.0, 1e-9); /* toward +x */
+    assert_double_near(plm_degrees(atan2(tip.t.x, tip.t.y)), 30.0, 1e-9); /* toward +x */
     assert_true(tip.c.x > 0.0);
     sh->bend_in_plane = 0.0;
     sh->bend_out_of_plane = plm_radians(20.0);
     assert_int_equal(plm_outline_init(&o, sh, "t", NULL), PLM_OK);
     tip = plm_rachis_frame_at(&o, sh->length);
-    assert_float_equal(plm_degrees(atan2(-tip.t.z, tip.t.y)), 20.0, 1e-9); /* ventral */
+    assert_double_near(plm_degrees(atan2(-tip.t.z, tip.t.y)), 20.0, 1e-9); /* ventral */
     /* Frames stay orthonormal and right-handed. */
     sh->bend_in_plane = plm_radians(10.0);
     sh->twist = plm_radians(25.0);
     assert_int_equal(plm_outline_init(&o, sh, "t", NULL), PLM_OK);
     plm_rachis_frame fr = plm_rachis_frame_at(&o, 0.7 * sh->length);
-    assert_float_equal(v3_dot(fr.x, fr.t), 0.0, 1e-12);
-    assert_float_equal(v3_dot(v3_cross(fr.x, fr.t), fr.z), 1.0, 1e-12);
+    assert_double_near(v3_dot(fr.x, fr.t), 0.0, 1e-12);
+    assert_double_near(v3_dot(v3_cross(fr.x, fr.t), fr.z), 1.0, 1e-12);
     plm_species_free(&sp);
 }
 
@@ -394,7 +395,7 @@ static void limit_surface_interpolates_the_cage(void **state)
     assert_int_equal(plm_subdiv_refine(&cage, values, 3, &l, NULL), PLM_OK);
     assert_int_equal(l.quad_count, 16 * 64);
     for (int i = 0; i < 25 * 3; ++i)
-        assert_float_equal(l.value[i], targets[i], 1e-8);
+        assert_double_near(l.value[i], targets[i], 1e-8);
     plm_subdiv_limit_free(&l);
     plm_error err = {{0}};
     assert_int_equal(plm_subdiv_refine(&cage, values, 7, &l, &err), PLM_ERR_INVALID);

@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,7 +69,7 @@ static int same_triangle(const uint32_t *a, const uint32_t *b)
 static void assert_floats(const float *a, const float *b, size_t n, float tol)
 {
     for (size_t i = 0; i < n; ++i)
-        assert_float_equal(a[i], b[i], tol);
+        assert_double_near(a[i], b[i], tol);
 }
 
 static void round_trip(const char *path, int tangents_expected, float tol)

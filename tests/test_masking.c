@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <math.h>
 #include <stdio.h>

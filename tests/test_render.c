@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -146,7 +147,7 @@ static void diffuse_plane_under_distant_light(void **state)
     double want[3] = {albedo.r / PLM_PI * 2.0 * 0.5, albedo.g / PLM_PI * 3.0 * 0.5, albedo.b / PLM_PI * 1.0 * 0.5};
     for (int i = 0; i < 16 * 16; ++i)
         for (int c = 0; c < 3; ++c)
-            assert_float_equal(film.rgb[3 * i + c], want[c], 1e-5 * want[c]);
+            assert_double_near(film.rgb[3 * i + c], want[c], 1e-5 * want[c]);
     assert_int_equal(film.nonfinite, 0);
     plm_film_free(&film);
     plm_scene_free(&s);
@@ -245,8 +246,8 @@ static void transparent_shadows_agree_with_stochastic_passing(void **state)
     /* Direct attenuation is exactly the transmission for one sheet. */
     double o = 0.0;
     assert_true(plm_world_intersect(&w, v3(0, 3, 0), v3(0, -1, 0), INFINITY, &o, &(plm_hit){0}));
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 1.0, 0.1), v3(0, 1, 0), INFINITY, &(long long){0}), 0.6, 1e-12);
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.3, 0.1, 0.0), v3(0, 1, 0), INFINITY, &(long long){0}), 0.0, 0.0);
+    assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 1.0, 0.1), v3(0, 1, 0), INFINITY, &(long long){0}), 0.6, 1e-12);
+    assert_double_near(plm_shadow_transmittance(&w, v3(0.3, 0.1, 0.0), v3(0, 1, 0), INFINITY, &(long long){0}), 0.0, 0.0);
     plm_world_free(&w);
     plm_scene_free(&s);
 }
@@ -271,11 +272,11 @@ static void transmittance_through_stacked_sheets(void **state)
     assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
     assert_int_equal(w.prototype_count, 2); /* transmissive and opaque sheets need different filters */
     long long rays = 0;
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), 1.5, &rays), 0.9, 1e-15);
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), 3.5, &rays),
+    assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), 1.5, &rays), 0.9, 1e-15);
+    assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), 3.5, &rays),
                        0.9 * 0.5 * 0.7, 1e-15);
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &rays), 0.0, 0.0);
-    assert_float_equal(plm_shadow_transmittance(&w, v3(0.1, 0.2, -2.5), v3(0, 0, 1), INFINITY, &rays), 0.7 * 0.5 * 0.9,
+    assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &rays), 0.0, 0.0);
+    assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 0.2, -2.5), v3(0, 0, 1), INFINITY, &rays), 0.7 * 0.5 * 0.9,
                        1e-15);
     plm_world_free(&w);
     plm_scene_free(&s);
@@ -407,17 +408,17 @@ static void mask_filters_remove_background(void **state)
     double t;
     plm_hit hit;
     assert_false(plm_world_intersect(&w, v3(-0.25, 0, 1), v3(0, 0, -1), INFINITY, &t, &hit));
-    assert_float_equal(plm_world_transmittance(&w, v3(-0.25, 0, 1), v3(0, 0, -1), 10.0), 1.0, 0.0);
+    assert_double_near(plm_world_transmittance(&w, v3(-0.25, 0, 1), v3(0, 0, -1), 10.0), 1.0, 0.0);
     assert_true(plm_world_intersect(&w, v3(0.25, 0, 1), v3(0, 0, -1), INFINITY, &t, &hit));
-    assert_float_equal(t, 1.0, 1e-5);
-    assert_float_equal(hit.uv.x, 0.75, 1e-5);
-    assert_float_equal(hit.uv.y, 0.5, 1e-5);
-    assert_float_equal(plm_world_transmittance(&w, v3(0.25, 0, 1), v3(0, 0, -1), 10.0), 0.0, 0.0);
+    assert_double_near(t, 1.0, 1e-5);
+    assert_double_near(hit.uv.x, 0.75, 1e-5);
+    assert_double_near(hit.uv.y, 0.5, 1e-5);
+    assert_double_near(plm_world_transmittance(&w, v3(0.25, 0, 1), v3(0, 0, -1), 10.0), 0.0, 0.0);
     /* Behind the first instance, the second one is hit on its vane half. */
     assert_true(plm_world_intersect(&w, v3(0.25, 0, -1), v3(0, 0, -1), INFINITY, &t, &hit));
-    assert_float_equal(hit.p.z, -2.0, 1e-5);
-    assert_float_equal(hit.dpdu.x, 1.0, 1e-6);
-    assert_float_equal(hit.dpdv.y, 1.0, 1e-6);
+    assert_double_near(hit.p.z, -2.0, 1e-5);
+    assert_double_near(hit.dpdu.x, 1.0, 1e-6);
+    assert_double_near(hit.dpdv.y, 1.0, 1e-6);
     plm_world_free(&w);
 
     /* A curled vane (triangles all on background are left out of the BVH) and
@@ -468,7 +469,7 @@ static void light_sampling_densities(void **state)
         plm_light_sample ls;
         assert_true(plm_light_sample_from(&rl, v3(0, 0, 0), plm_rng_uniform(&rng), plm_rng_uniform(&rng), &ls));
         sum += 1.0 / ls.pdf;
-        assert_float_equal(plm_light_pdf(&rl, v3(0, 0, 0), ls.wi), ls.pdf, 1e-9 * ls.pdf);
+        assert_double_near(plm_light_pdf(&rl, v3(0, 0, 0), ls.wi), ls.pdf, 1e-9 * ls.pdf);
     }
     double a = 2.0, b = 2.0, d = 2.0, omega = 4.0 * atan(a * b / (2.0 * d * sqrt(4.0 * d * d + a * a + b * b)));
     assert_true(fabs(sum / n / omega - 1.0) < 0.005);
@@ -490,7 +491,7 @@ static void light_sampling_densities(void **state)
         plm_light_sample ls;
         assert_true(plm_light_sample_from(&rl, v3(0, 0, 0), plm_rng_uniform(&rng), plm_rng_uniform(&rng), &ls));
         is += rgb_luminance(ls.radiance) / ls.pdf;
-        assert_float_equal(plm_light_pdf(&rl, v3(0, 0, 0), ls.wi), ls.pdf, 1e-6 * ls.pdf);
+        assert_double_near(plm_light_pdf(&rl, v3(0, 0, 0), ls.wi), ls.pdf, 1e-6 * ls.pdf);
         vec3 u = plm_sample_uniform_sphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
         density += plm_light_pdf(&rl, v3(0, 0, 0), u) * 4.0 * PLM_PI;
     }
@@ -561,12 +562,12 @@ static void camera_lens_and_envmap_conventions(void **state)
     for (int i = 0; i < 20; ++i) {
         vec2 uv = v2(0.05 + 0.045 * i, 0.03 + 0.047 * i);
         vec2 back = plm_envmap_uv(0.7, plm_envmap_direction(0.7, uv));
-        assert_float_equal(back.x, uv.x, 1e-12);
-        assert_float_equal(back.y, uv.y, 1e-12);
+        assert_double_near(back.x, uv.x, 1e-12);
+        assert_double_near(back.y, uv.y, 1e-12);
     }
     vec3 centre = plm_envmap_direction(0.0, v2(0.5, 0.5)), top = plm_envmap_direction(0.0, v2(0.3, 0.0));
-    assert_float_equal(centre.z, -1.0, 1e-12);
-    assert_float_equal(top.y, 1.0, 1e-12);
+    assert_double_near(centre.z, -1.0, 1e-12);
+    assert_double_near(top.y, 1.0, 1e-12);
 }
 
 int main(void)

@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -77,7 +78,7 @@ static void defaults_when_fields_are_absent(void **state)
     assert_int_equal(s.film.max_depth, 16);
     assert_int_equal((int)s.film.seed, 1);
     assert_false(s.camera.given);
-    assert_float_equal(s.camera.fov, 40.0, 0);
+    assert_double_near(s.camera.fov, 40.0, 0);
     assert_string_equal(s.film.png, "");
     assert_int_equal(s.instance_count, 0);
     plm_scene_free(&s);
@@ -115,20 +116,20 @@ static void includes_resolve_relative_paths(void **state)
     assert_int_equal(s.instance_count, 4);
     assert_int_equal(s.light_count, 2);
     assert_int_equal(s.lights[0].type, PLM_LIGHT_CONSTANT_ENV);
-    assert_float_equal(s.lights[1].direction.y, 1.0, 1e-12);
+    assert_double_near(s.lights[1].direction.y, 1.0, 1e-12);
     assert_true(s.camera.given);
-    assert_float_equal(s.camera.fov, 30.0, 0);
+    assert_double_near(s.camera.fov, 30.0, 0);
     assert_int_equal(s.film.width, 64);
     assert_string_equal(s.film.png, "out.png");
     assert_int_equal(s.materials[0].texture.region[0], PLM_REGION_BACKGROUND);
     assert_int_equal(s.materials[0].texture.region[1], PLM_REGION_VANE);
     /* Instance 1: scale 2, rotate 90 about z, then the object's translate: (1,0,0) -> (0,2,1). */
     vec3 p = plm_xform_point(s.instances[1].xform.m, v3(1, 0, 0));
-    assert_float_equal(p.x, 0.0, 1e-12);
-    assert_float_equal(p.y, 2.0, 1e-12);
-    assert_float_equal(p.z, 1.0, 1e-12);
+    assert_double_near(p.x, 0.0, 1e-12);
+    assert_double_near(p.y, 2.0, 1e-12);
+    assert_double_near(p.z, 1.0, 1e-12);
     vec3 q = plm_xform_point(s.instances[1].xform.inv, p);
-    assert_float_equal(q.x, 1.0, 1e-12);
+    assert_double_near(q.x, 1.0, 1e-12);
     /* Tints vary per instance but never brighten and never leave [tint (1 - jitter), tint]. */
     for (int i = 1; i < 4; ++i) {
         rgb t = s.instances[i].tint;
@@ -157,22 +158,22 @@ static void feather_material_fields(void **state)
         fail_msg("%s", err.message);
     const plm_material *m = &s.materials[0];
     assert_int_equal(m->type, PLM_MATERIAL_FEATHER);
-    assert_float_equal(m->reflectance.b, 0.4, 0);
+    assert_double_near(m->reflectance.b, 0.4, 0);
     const plm_feather_params *p = m->feather;
-    assert_float_equal(p->barb.eccentricity, 1.6, 0);
-    assert_float_equal(p->barb.sigma_a.g, 2.0, 0);
-    assert_float_equal(p->barb.beta_m, plm_radians(10.0), 1e-15);
-    assert_float_equal(p->barb.beta_n, plm_radians(20.0), 1e-15);
-    assert_float_equal(p->barb.medulla_b, 0.4, 0);
-    assert_float_equal(p->barb.medulla_ca, -0.1, 0);
+    assert_double_near(p->barb.eccentricity, 1.6, 0);
+    assert_double_near(p->barb.sigma_a.g, 2.0, 0);
+    assert_double_near(p->barb.beta_m, plm_radians(10.0), 1e-15);
+    assert_double_near(p->barb.beta_n, plm_radians(20.0), 1e-15);
+    assert_double_near(p->barb.medulla_b, 0.4, 0);
+    assert_double_near(p->barb.medulla_ca, -0.1, 0);
     assert_int_equal(p->barb.lobes, 7);
-    assert_float_equal(p->barbule.eccentricity, 2.0, 0);
+    assert_double_near(p->barbule.eccentricity, 2.0, 0);
     plm_feather_params def;
     plm_feather_params_default(&def);
-    assert_float_equal(p->barbule.eta, def.barbule.eta, 0);
-    assert_float_equal(p->masking.barbule_rotation, plm_radians(40.0), 1e-15);
-    assert_float_equal(p->masking.barbule_inclination, plm_radians(30.0), 1e-15);
-    assert_float_equal(p->masking.barbule_separation, 0.3, 0);
+    assert_double_near(p->barbule.eta, def.barbule.eta, 0);
+    assert_double_near(p->masking.barbule_rotation, plm_radians(40.0), 1e-15);
+    assert_double_near(p->masking.barbule_inclination, plm_radians(30.0), 1e-15);
+    assert_double_near(p->masking.barbule_separation, 0.3, 0);
     assert_int_equal(m->texture.width, 4);
     plm_scene_free(&s);
 }

@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "assert_double.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -99,7 +100,7 @@ static void barb_angle_at_the_rachis_is_the_parameter(void **state)
             assert_int_equal(plm_texture_region_of(texel_at(&f.texture, i, j)[2]), PLM_FLAT_VANE);
             double expect = plm_degrees(sh->barb_angle_base[side] +
                                         (sh->barb_angle_tip[side] - sh->barb_angle_base[side]) * tr);
-            assert_float_equal(barb_angle_at(&f, i, j), expect, 0.5);
+            assert_double_near(barb_angle_at(&f, i, j), expect, 0.5);
             const float *p = texel_at(&f.texture, i, j);
             assert_true((2.0 * p[0] - 1.0) * sign > 0.0); /* away from the rachis */
         }
@@ -129,7 +130,7 @@ static void barbs_curve_toward_the_tip_by_the_curvature(void **state)
             int i = column_of(&f, side ? a : -a), j = row_of(&f, y);
             double a_texel = fabs(texel_x(&f, i));
             double expect = 50.0 - 20.0 * (a_texel - r) / (w - r);
-            assert_float_equal(barb_angle_at(&f, i, j), expect, 0.05);
+            assert_double_near(barb_angle_at(&f, i, j), expect, 0.05);
         }
     }
     plm_feather_free(&f);
@@ -198,7 +199,7 @@ static void mask_widths_are_the_parameters(void **state)
                 if (w->t[k] <= sh->plumulaceous + 0.1 || w->t[k] >= 1.0 - sh->tip_length)
                     continue; /* the fluffy base and the closing tip are not the profile */
                 int j = row_of(&f, sh->calamus_length + w->t[k] * lv);
-                assert_float_equal(mask_width(&f, j, side), w->width[k], 0.01 * w->width[k]);
+                assert_double_near(mask_width(&f, j, side), w->width[k], 0.01 * w->width[k]);
             }
         }
         plm_feather_free(&f);
@@ -362,7 +363,7 @@ static void files_round_trip_and_runs_repeat(void **state)
                          PLM_OK);
         assert_int_equal(back.channels, 3);
         for (size_t i = 0; i < n; ++i)
-            assert_float_equal(back.pixels[i], f.texture.pixels[i], k ? 0.5 / 65535.0 + 1e-7 : 0.0);
+            assert_double_near(back.pixels[i], f.texture.pixels[i], k ? 0.5 / 65535.0 + 1e-7 : 0.0);
         plm_texture_image_free(&back);
         remove(files[k]);
     }
