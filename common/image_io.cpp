@@ -1,9 +1,12 @@
 // OpenImageIO adapter behind common/image_io.h: the only C++ in common/.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <unistd.h>
 
 extern "C" {
 #include "common/fileio.h"
@@ -79,5 +82,27 @@ extern "C" plm_result plm_image_read(const char *path, int *width, int *height, 
     *height = spec.height;
     *channels = spec.nchannels;
     *pixels = buf;
+    return PLM_OK;
+}
+
+extern "C" plm_result plm_image_draw_text(plm_image *img, int x, int y, int size_px, const char *text,
+                                          const float color[3], plm_error *err)
+{
+    if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || (img->channels != 3 && img->channels != 4))
+        return plm_fail(err, PLM_ERR_INVALID, "draw text: the image must be float with 3 or 4 channels");
+    if (size_px <= 0 || !text || !color)
+        return plm_fail(err, PLM_ERR_INVALID, "draw text: size_px must be > 0 (got %d) and text and colour given",
+                        size_px);
+    // OpenImageIO would substitute another font for a missing one; say so instead.
+    if (access(PLM_IMAGE_FONT, R_OK) != 0)
+        return plm_fail(err, PLM_ERR_IO, "draw text: font %s not found (install fonts-dejavu-core)", PLM_IMAGE_FONT);
+    ImageSpec spec(img->width, img->height, img->channels, TypeDesc::FLOAT);
+    OIIO::ImageBuf buf(spec, img->pixels); // wraps the caller's pixels, no copy
+    float rgba[4] = {color[0], color[1], color[2], 1.0f};
+    if (!OIIO::ImageBufAlgo::render_text(buf, x, y, text, size_px, PLM_IMAGE_FONT,
+                                         OIIO::cspan<float>(rgba, img->channels))) {
+        std::string msg = buf.geterror();
+        return plm_fail(err, PLM_ERR_INTERNAL, "draw text: %s", msg.c_str());
+    }
     return PLM_OK;
 }

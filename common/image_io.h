@@ -33,6 +33,15 @@ plm_result plm_image_read(const char *path, int *width, int *height, int *channe
 plm_result plm_image_write_srgb_png(const char *path, int width, int height, const float *rgb, double exposure,
                                     plm_error *err);
 
+/* Draws text into img (float, 3 or 4 channels) in the colour `color` (RGB;
+ * with a fourth channel the text is composited over as alpha). (x, y) is the left end of
+ * the baseline in pixels; size_px the font size in pixels. The font is
+ * DejaVu Sans from Debian's fonts-dejavu-core (PLM_IMAGE_FONT); a missing
+ * font is an error, never a silent fallback. */
+#define PLM_IMAGE_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+plm_result plm_image_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
+                               plm_error *err);
+
 /* sRGB transfer function of a linear value in [0, 1]. */
 double plm_srgb_encode(double linear);
 

@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
           libembree-dev libopenimageio-dev openimageio-tools libosd-dev libopenmesh-dev
-          libcjson-dev libcmocka-dev)
+          libcjson-dev libcmocka-dev fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

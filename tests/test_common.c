@@ -179,6 +179,43 @@ static void image_round_trips_through_exr_and_png16(void **state)
     assert_non_null(strstr(err.message, "/nonexistent/x.exr"));
 }
 
+/* Text lands right of and above its baseline origin, in the asked colour,
+ * and nowhere else; with alpha, the text is composited over the image. */
+static void text_is_drawn_at_its_baseline(void **state)
+{
+    (void)state;
+    for (int channels = 3; channels <= 4; ++channels) {
+        enum { W = 96, H = 40 };
+        float px[W * H * 4] = {0};
+        plm_image img = {W, H, channels, px};
+        const float red[3] = {1.0f, 0.0f, 0.0f};
+        plm_error err = {{0}};
+        assert_int_equal(plm_image_draw_text(&img, 20, 30, 20, "Hx", red, &err), PLM_OK);
+        int inked = 0, stray = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const float *p = px + (y * W + x) * channels;
+                int ink = p[0] > 0.0f;
+                /* "Hx" has no descender: ink only between the cap height
+                 * (about 0.73 em above the baseline) and the baseline. */
+                int inside = x >= 20 && x < 20 + 2 * 20 && y >= 30 - 17 && y <= 30;
+                inked += ink && inside && p[0] > 0.99f;
+                stray += ink && !inside;
+                assert_double_near(p[1], 0.0, 0.0);
+                if (channels == 4) /* text composited over clear black: alpha = coverage = red */
+                    assert_double_near(p[3], p[0], 1e-6);
+            }
+        assert_true(inked > 40);
+        assert_int_equal(stray, 0);
+    }
+    float px[4 * 4 * 2] = {0};
+    plm_image two = {4, 4, 2, px};
+    const float white[3] = {1, 1, 1};
+    plm_error err = {{0}};
+    assert_int_equal(plm_image_draw_text(&two, 0, 3, 8, "a", white, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "3 or 4 channels"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -188,6 +225,7 @@ int main(void)
         cmocka_unit_test(json_errors_name_file_field_and_range),
         cmocka_unit_test(atomic_file_leaves_nothing_on_abort),
         cmocka_unit_test(image_round_trips_through_exr_and_png16),
+        cmocka_unit_test(text_is_drawn_at_its_baseline),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
