@@ -60,7 +60,7 @@ int bench_masking(int argc, char **argv)
         double r = sqrt(1.0 - y * y);
         c->dirs[i] = v3(r * cos(phi), y, r * sin(phi));
     }
-    /* DESIGN 4 defaults, then the paper's two Fig. 9 sets. */
+    /* The default parameters, then the paper's two Fig. 9 sets. */
     const struct { const char *name; double e_b, l, theta_deg; } sets[] = {
         {"defaults (e_b 1, l_bb 1, theta_bb 0)", 1.0, 1.0, 0.0},
         {"Fig. 9 set 1 (e_b 3, l_bb 1, theta_bb 0)", 3.0, 1.0, 0.0},

@@ -1,5 +1,5 @@
 /* The fiber options shared by `plumage probe fiber`, `plumage probe bcsdf`
- * (DESIGN 4): one table, one conversion to plm_fiber_params. */
+ * (docs/fiber.md): one table, one conversion to plm_fiber_params. */
 #ifndef PLUMAGE_CLI_FIBER_CLI_H
 #define PLUMAGE_CLI_FIBER_CLI_H
 

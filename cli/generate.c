@@ -99,7 +99,7 @@ static int run(int argc, char **argv, int textures_only)
         "SPECIES.json...",
         "Builds a feather from a species preset: the vane and rachis meshes (PLY, OpenSubdiv limit surfaces), the "
         "feather texture (barb direction and regions) and the pigment texture (EXR and 16-bit PNG), and "
-        "feather.json, a scene for 'plumage render'. The README's \"Generating feathers\" section documents every "
+        "feather.json, a scene for 'plumage render'. docs/species.md documents every "
         "species field."};
     const plm_command_help texture_help = {
         "plumage texture --species FILE -o DIR [--texture-size N] [--format F] [--no-pigment]",

@@ -1,5 +1,5 @@
 /* plumage probe fiber: the lobes the fiber tracer produces for given view
- * directions and entry offsets (DESIGN 4), and the fiber options shared with
+ * directions and entry offsets (docs/fiber.md), and the fiber options shared with
  * the bcsdf probe. */
 #include <stdio.h>
 #include <string.h>
@@ -103,7 +103,7 @@ int probe_fiber(int argc, char **argv)
         "plumage probe fiber [options] < directions",
         "Traces light into the fiber from view direction (theta, phi) at entry offset h and prints\n"
         "its lobes. stdin: one \"theta phi h\" per line (degrees: theta = asin(w.axis) in (-90, 90),\n"
-        "phi = atan2(w.e3, w.e2); h in [-1, 1] across the silhouette, DESIGN 3.2).\n"
+        "phi = atan2(w.e3, w.e2); h in [-1, 1] across the silhouette; see docs/fiber.md).\n"
         "stdout: lobe,theta_out,phi_out,throughput_r,throughput_g,throughput_b with exactly --lobes rows\n"
         "per line (rows after the last lobe are zeros). Deterministic without a medulla; with one,\n"
         "--seed fixes the diffuse bounces."};

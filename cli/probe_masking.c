@@ -1,4 +1,4 @@
-/* plumage probe masking: the analytic barb/barbule masking (DESIGN 4), its
+/* plumage probe masking: the analytic barb/barbule masking (docs/masking.md), its
  * two levels on their own, the explicit-geometry Monte Carlo reference, and
  * Fig. 9-style pictures comparing the two. */
 #include <math.h>
@@ -29,7 +29,7 @@ typedef struct probe_args {
     const char *figure, *figure9;
 } probe_args;
 
-/* Which options each mode accepts (DESIGN 4 lists them per level). */
+/* Which options each mode accepts (docs/masking.md lists them per level). */
 static int option_allowed(int opt, const probe_args *a)
 {
     int picture = a->figure || a->figure9;
@@ -207,7 +207,7 @@ static int write_figure(const char *path, const plm_masking_params *sets, int n_
     return status;
 }
 
-/* The two parameter sets of the paper's Fig. 9 (REFERENCES.md). */
+/* The two parameter sets of the paper's Fig. 9. */
 static int write_figure9(const char *path, int width, int samples, uint64_t seed)
 {
     plm_masking_params sets[2];

@@ -49,7 +49,7 @@ int cmd_render(int argc, char **argv)
     const int n_opts = (int)(sizeof opts / sizeof opts[0]);
     plm_command_help help = {
         "plumage render SCENE.json [options]",
-        "Renders a scene file (see the README's \"Scene files\") with a path tracer: next-event estimation,\n"
+        "Renders a scene file (fields: docs/scene-format.md) with a path tracer: next-event estimation,\n"
         "multiple importance sampling, Russian roulette, feathers' delta transmission as fractional visibility.\n"
         "Writes a linear EXR and a tone-mapped sRGB PNG, atomically. Ctrl-C stops early and writes the image\n"
         "rendered so far; the same scene, seed and spp give the same image at any thread count."};

@@ -1,14 +1,13 @@
 /* A species preset: the biological description of one kind of feather.
  *
  * The `shape` block drives the generator (every field, its unit, range,
- * default and source is listed in the README's "Generating feathers"
- * section); `pigment` drives the optional pigment image; `optics` belongs to
+ * default and source is listed in docs/species.md); `pigment` drives the optional pigment image; `optics` belongs to
  * the renderer and is carried through untouched.
  *
  * The feather lies in its own frame: the rachis runs along +y from the base
  * of the calamus (y = 0) to the tip (y = length), the vanes spread along x
  * (the right vane at +x, the left at -x), and +z is the dorsal side, toward
- * which barbules rise (DESIGN 3.1). Lengths are millimetres, angles degrees
+ * which barbules rise (docs/masking.md). Lengths are millimetres, angles degrees
  * in the file and radians in these structs. */
 #ifndef PLUMAGE_GENERATE_SPECIES_H
 #define PLUMAGE_GENERATE_SPECIES_H

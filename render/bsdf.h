@@ -4,7 +4,7 @@
  *  - plm_material_transmission(hit, w): the probability that a ray arriving
  *    from direction w (unit, pointing back toward where the ray came from)
  *    passes straight through. This is the delta transmission of the feather
- *    (paper Eq. 4, w_t) handled as fractional visibility (DESIGN 5): camera
+ *    (paper Eq. 4, w_t) handled as fractional visibility (docs/rendering.md): camera
  *    and bounce rays continue straight with this probability, shadow rays
  *    are attenuated by it.
  *  - plm_material_bsdf(hit, wo, rng): the BSDF of the other branch, the
@@ -30,7 +30,7 @@ typedef struct plm_hit {
     rgb tint;        /* per-instance colour variation */
     const plm_material *material;
     /* Set by plm_material_surface: whether the hit lies on a feather's vane,
-     * and there the barb frame (x = b, y = n, z = t; DESIGN 3.1). */
+     * and there the barb frame (x = b, y = n, z = t; docs/masking.md). */
     int on_vane;
     frame barb;
 } plm_hit;

@@ -19,17 +19,17 @@
 
 typedef struct plm_feather_params {
     plm_fiber_params barb;    /* in the barb frame: axis t, e2 = b, e3 = n */
-    plm_fiber_params barbule; /* in each barbule set's frame: axis, e2 = r1, e3 = r2 (DESIGN 3.1) */
+    plm_fiber_params barbule; /* in each barbule set's frame: axis, e2 = r1, e3 = r2 (docs/masking.md) */
     plm_masking_params masking;
 } plm_feather_params;
 
 /* Barb: the fiber defaults with the paper's Fig. 7 absorption (0.133, 1.967, 2.1)
  * and a concentric white medulla of radius 0.6; barbule: the fiber defaults
- * (no medulla) with the same absorption; masking: DESIGN 4's defaults. */
+ * (no medulla) with the same absorption; masking: its defaults. */
 void plm_feather_params_default(plm_feather_params *p);
 plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err);
 
-/* The barb frame of DESIGN 3.1 at a vane point, as a frame with x = b, y = n,
+/* The barb frame (docs/masking.md) at a vane point, as a frame with x = b, y = n,
  * z = t: t = the texture's direction (cos a dP/du + sin a dP/dv) projected
  * into the plane of the shading normal n, b = n x t or its opposite, whichever
  * points to the tip (b . dP/dv > 0). Returns 0 if the tangents are degenerate. */

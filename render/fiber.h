@@ -34,11 +34,11 @@ typedef struct plm_fiber_params { /* zero-init is NOT valid; use plm_fiber_param
     int lobes;                    /* N: lobes traced per path, default 5 */
 } plm_fiber_params;
 
-/* Circular clear cortex, eta 1.55 (keratin, REFERENCES.md), beta_m = 0.13 and
+/* Circular clear cortex, eta 1.55 (keratin), beta_m = 0.13 and
  * beta_n = 0.12 rad (paper Fig. 7), no medulla (white if enabled), 5 lobes. */
 void plm_fiber_params_default(plm_fiber_params *p);
 
-/* The four fibers of the paper's Fig. 7 (REFERENCES.md), by variant: 0
+/* The four fibers of the paper's Fig. 7, by variant: 0
  * circular, 1 elliptical e = 1.6, 2 with a concentric medulla of radius 0.6,
  * 3 with that medulla centred at (-0.1, 0.1); all with sigma_a = (0.133,
  * 1.967, 2.1), eta = 1.53, beta_m = 0.13, beta_n = 0.12, a white medulla. */
@@ -64,7 +64,7 @@ typedef struct plm_fiber_lobe {
 } plm_fiber_lobe;
 
 /* Traces light arriving from view direction wo (unit, pointing away from the
- * fiber) at entry offset h in [-1, 1] (DESIGN 3.2; outside, or NaN, gives no
+ * fiber) at entry offset h in [-1, 1] (docs/fiber.md; outside, or NaN, gives no
  * lobes) and fills lobes[0..count)
  * in the order light leaves the cortex (lobe 0 is the surface reflection);
  * returns count <= max_lobes (fewer when light is absorbed, lost along the

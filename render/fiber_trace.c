@@ -245,7 +245,7 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
 {
     double inv_proj = 1.0 / sqrt(wo.x * wo.x + wo.y * wo.y);
     vec2 v = v2(wo.x * inv_proj, wo.y * inv_proj); /* view direction projected in the cross-section */
-    vec2 side = v2(v.y, -v.x);              /* h increases along this (DESIGN 3.2) */
+    vec2 side = v2(v.y, -v.x);              /* h increases along this (docs/fiber.md) */
     double e = cortex->b, inv_e = cortex->inv_b;
     double half_width = sqrt(side.x * side.x + e * e * side.y * side.y); /* support function of the cortex */
     vec3 d = v3_neg(wo);

@@ -1,6 +1,6 @@
 /* Unidirectional path tracing with next-event estimation, multiple
  * importance sampling (power heuristic) and Russian roulette. Delta
- * transmission is fractional visibility (DESIGN 5): a ray that meets a
+ * transmission is fractional visibility (docs/rendering.md): a ray that meets a
  * surface passes straight on with the material's plm_material_transmission,
  * and shadow rays are attenuated by the same probability. */
 #ifndef PLUMAGE_RENDER_INTEGRATOR_H

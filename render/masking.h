@@ -3,7 +3,7 @@
  * For a view direction, the masking says which fraction of the vane's
  * projected width belongs to the barb, the proximal barbules, the distal
  * barbules and the gaps (w_barb + w_proximal + w_distal + w_transmission = 1),
- * and which part of each fiber's width (its h-interval, DESIGN 3.2) is seen.
+ * and which part of each fiber's width (its h-interval, docs/masking.md) is seen.
  *
  * It works at two scales, each a 2D cross-section:
  * - barbule level: a row of barbule ellipses (period 1, semi-axes
@@ -15,14 +15,14 @@
  *   height of its centre and rising at theta_bb to a ridge shared with the
  *   neighbour; a barbule segment lets a ray through with its set's barbule-level
  *   transmittance (independent layers multiply).
- * Directions are in the barb frame of DESIGN 3.1: (x, y, z) = (w.b, w.n, w.t). */
+ * Directions are in the barb frame of docs/masking.md: (x, y, z) = (w.b, w.n, w.t). */
 #ifndef PLUMAGE_RENDER_MASKING_H
 #define PLUMAGE_RENDER_MASKING_H
 
 #include "common/error.h"
 #include "common/vec.h"
 
-/* DESIGN 3.2; angles in radians here. */
+/* The paper authors' parameters (docs/masking.md); angles in radians here. */
 typedef struct plm_masking_params {
     double barb_eccentricity;    /* e_b: barb extent along n / extent along b, (0, 20] */
     double barbule_eccentricity; /* e_bb: the same in a barbule's row frame, (0, 20] */
@@ -32,13 +32,13 @@ typedef struct plm_masking_params {
     double barbule_inclination;  /* theta_bb: rise toward n, [0, 89 degrees] */
 } plm_masking_params;
 
-/* DESIGN 4 defaults: e_b 1, e_bb 1, l_bb 1, delta_bb 1, phi_bb 45 deg, theta_bb 0. */
+/* Defaults: e_b 1, e_bb 1, l_bb 1, delta_bb 1, phi_bb 45 deg, theta_bb 0. */
 void plm_masking_params_default(plm_masking_params *p);
 /* PLM_ERR_INVALID with a message naming the field and its range (in degrees
  * for the angles) if any field is out of range or not finite. */
 plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err);
 
-/* A visible interval of a fiber's h (DESIGN 3.2) and the fraction of the
+/* A visible interval of a fiber's h (docs/masking.md) and the fraction of the
  * vane's projected width that sees the fiber through it. */
 typedef struct plm_h_range {
     double hmin, hmax, rate;
@@ -99,7 +99,7 @@ typedef struct plm_barb_masking {
 void plm_masking_barb(double barb_eccentricity, double barbule_length, double barbule_inclination,
                       double t_proximal, double t_distal, vec2 d, plm_barb_masking *out);
 
-/* The fiber frame of one barbule set in the barb frame (DESIGN 3.1): its axis,
+/* The fiber frame of one barbule set in the barb frame (docs/masking.md): its axis,
  * e2 = r1 (across the barbules, within their row), e3 = r2 (the row normal). */
 void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *proximal,
                                 plm_barbule_frame *distal);

@@ -109,7 +109,7 @@ static void solid_intersect_cb(const struct RTCIntersectFunctionNArguments *args
     rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-/* DESIGN 3.1: a barbule set's axis and cross-section axes (side +1 distal, -1 proximal). */
+/* The model's frames (docs/masking.md): a barbule set's axis and cross-section axes (side +1 distal, -1 proximal). */
 static void barbule_axes(const plm_masking_params *p, double side, vec3 *axis, vec3 *e2, vec3 *e3)
 {
     double sp = sin(p->barbule_rotation), cp = cos(p->barbule_rotation);
@@ -254,7 +254,7 @@ void plm_masking_reference_destroy(plm_masking_reference *ref)
     free(ref);
 }
 
-/* h of a hit point on a solid for view direction wo (DESIGN 3.2): the
+/* h of a hit point on a solid for view direction wo (docs/masking.md): the
  * point's offset along (d_y, -d_x) over the solid's projected half-width. */
 static double hit_h(const solid *s, vec3 p, vec3 wo)
 {

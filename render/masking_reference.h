@@ -3,14 +3,14 @@
  *
  * It shares nothing with the analytic masking (masking.c) but the parameter
  * struct, the result struct and vector maths: the geometry is built here from
- * the parameters' definitions (DESIGN 3.1, 3.2) and traced with Embree.
+ * the parameters' definitions (docs/masking.md) and traced with Embree.
  *
  * The scene, in the barb frame (x = b, y = n, z = t), is periodic in x (one
  * period holds `barbs` barbs, period 1 each) and in z (`length`):
  * - barb j: an elliptic cylinder along z through (j, 0), semi-axes w along b
  *   and e_b w along n, with w = 1 / (2 (1 + l_bb cos theta_bb)) as in the
  *   paper's cross-section (barb width plus two barbule spans is one period);
- * - barbules: elliptic cylinders along the DESIGN 3.1 axes, cross-section
+ * - barbules: elliptic cylinders along the model's barbule axes, cross-section
  *   semi-axes a along r1 and e_bb a along r2, rooted on the barb's side at
  *   the height of its centre, one every `pitch / sqrt(1 - (axis . t)^2)`
  *   along t (so neighbours are `pitch` apart across the row) with
@@ -48,7 +48,7 @@ void plm_masking_reference_destroy(plm_masking_reference *ref);
  * scene) from direction wo (toward the viewer, barb frame, need not be
  * normalised) and fills out with the fractions that hit the barb, the
  * proximal and distal barbules first or pass through. The h-intervals
- * (DESIGN 3.2) span the hits on each kind less 1% of them at each end (rays
+ * (docs/masking.md) span the hits on each kind less 1% of them at each end (rays
  * slipping past the cut ends of barbule rows would stretch them; each end is
  * good to about 0.02), and the barb has one range [hmin, hmax] holding w_barb;
  * a kind never hit gets [0, 0].

@@ -1,6 +1,6 @@
 /* A scene as plain data: camera, film, lights, meshes, materials and
- * instances. Read from JSON with plm_scene_load (the README's "Scene files"
- * section documents every field and default) or built in code with the
+ * instances. Read from JSON with plm_scene_load (docs/scene-format.md
+ * documents every field and default) or built in code with the
  * plm_scene_add_* functions. The scene owns everything it points to. */
 #ifndef PLUMAGE_RENDER_SCENE_H
 #define PLUMAGE_RENDER_SCENE_H

@@ -1,6 +1,6 @@
 /* Scene files: JSON validated field by field (unknown fields are errors),
  * includes merged, relative paths resolved against the file that names them.
- * The README's "Scene files" section documents every field. */
+ * docs/scene-format.md documents every field. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -259,7 +259,7 @@ static plm_result read_pair(const plm_json_reader *r, const cJSON *obj, const ch
     return PLM_OK;
 }
 
-/* A fiber block (DESIGN 3.3; angles in degrees); absent fields keep p's values. */
+/* A fiber block (docs/fiber.md; angles in degrees); absent fields keep p's values. */
 static plm_result read_fiber(const plm_json_reader *r, const cJSON *parent, const char *parent_path,
                              const char *key, plm_fiber_params *p)
 {

@@ -1,4 +1,4 @@
-# plumage probe masking: DESIGN 4 formats, closed-form answers, the Monte
+# plumage probe masking: the formats of docs/masking.md, closed-form answers, the Monte
 # Carlo reference, pictures, and bad input.
 # usage: bash cli_masking.sh <plumage> <scratch dir>
 set -u

@@ -10,7 +10,7 @@
 #include "render/masking_reference.h"
 
 /* The analytic levels composed with the frames of the reference's actual
- * geometry instead of DESIGN 3.1's. Barbules rooted along the barb (t) with
+ * geometry instead of the model's (docs/masking.md). Barbules rooted along the barb (t) with
  * axis a form rows whose normal is along t x a, not r2 = (0, cos, -sin), and
  * in the barb cross-section they rise at atan(sin theta cos phi / sin phi),
  * not theta. The two agree at theta_bb = 0. This composition is not the

@@ -42,7 +42,7 @@ static void figure9_sets_fine(void **state)
         masking_agreement a[2];
         assert_true(masking_compare_models(&p, ref, models, 2, a, 2.5, 60.0, 2.5, 10.0, 16384, 1000 * (set + 1)));
         char label[96];
-        snprintf(label, sizeof label, "Fig. 9 set %d, DESIGN frames, polar <= 60", set + 1);
+        snprintf(label, sizeof label, "Fig. 9 set %d, model frames, polar <= 60", set + 1);
         masking_agreement_print(label, &a[0]);
         snprintf(label, sizeof label, "Fig. 9 set %d, geometry's frames, polar <= 60", set + 1);
         masking_agreement_print(label, &a[1]);

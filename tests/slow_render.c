@@ -17,7 +17,7 @@ enum { CONFIGS = 40 };
 
 static double uniform(plm_rng *rng, double lo, double hi) { return lo + (hi - lo) * plm_rng_uniform(rng); }
 
-/* A random feather over the paper's explored ranges (REFERENCES.md); clear = no absorption, white medulla. */
+/* A random feather over the paper's explored ranges; clear = no absorption, white medulla. */
 static plm_feather_params random_params(plm_rng *rng, int clear)
 {
     for (;;) {

@@ -130,7 +130,7 @@ static void fresnel_both_ways_with_total_internal_reflection(void **state)
     assert_true(plm_fiber_fresnel(cos_critical + 1e-9, 1.0 / eta) > 0.999);
 }
 
-/* A Fig. 7 fiber's cross-section (REFERENCES.md), clear, with the given
+/* A Fig. 7 fiber's cross-section, clear, with the given
  * eccentricity and medulla reflectance. */
 static plm_fiber_params fiber_variant(int variant, double eccentricity, rgb medulla_reflectance)
 {
@@ -215,7 +215,7 @@ static void energy_is_conserved_without_absorption(void **state)
     }
 }
 
-/* h = +-1 are the silhouettes (DESIGN 3.2): light grazes the cortex there and
+/* h = +-1 are the silhouettes (docs/fiber.md): light grazes the cortex there and
  * is reflected whole, whatever the eccentricity. */
 static void silhouettes_are_grazing(void **state)
 {

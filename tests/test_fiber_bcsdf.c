@@ -13,7 +13,7 @@
 #include "render/fiber.h"
 #include "tests/fiber_stats.h"
 
-/* A Fig. 7 fiber (REFERENCES.md), checked valid. */
+/* A Fig. 7 fiber, checked valid. */
 static plm_fiber_params figure7(int variant)
 {
     plm_fiber_params p;

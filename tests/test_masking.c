@@ -205,7 +205,7 @@ static void random_and_degenerate_views_give_valid_results(void **state)
     }
 }
 
-/* The barbule frames are orthonormal and right-handed, as DESIGN 3.1 writes them. */
+/* The barbule frames are orthonormal and right-handed, as docs/masking.md writes them. */
 static void barbule_frames_are_orthonormal(void **state)
 {
     (void)state;

@@ -9,7 +9,7 @@
 
 #include "tests/masking_compare.h"
 
-/* REFERENCES.md: e_bb = 1, delta_bb = 1, phi_bb = 45 deg and either
+/* The paper's Fig. 9: e_bb = 1, delta_bb = 1, phi_bb = 45 deg and either
  * (e_b 3, l_bb 1, theta_bb 0) or (e_b 1, l_bb 3, theta_bb 45 deg). */
 static plm_masking_params figure9_set(int which)
 {
@@ -28,7 +28,7 @@ static plm_masking_reference *make_reference(const plm_masking_params *p)
     return ref;
 }
 
-/* theta_bb = 0: the DESIGN frames are the geometry's own, so the product's
+/* theta_bb = 0: the model's frames are the geometry's own, so the product's
  * masking must match the rays within 60 degrees of the normal, both sides. */
 static void figure9_flat_barbules_match_explicit_geometry(void **state)
 {
@@ -38,14 +38,14 @@ static void figure9_flat_barbules_match_explicit_geometry(void **state)
     masking_model_fn model = masking_design_frames;
     masking_agreement a;
     assert_true(masking_compare_models(&p, ref, &model, 1, &a, 5.0, 55.0, 10.0, 30.0, 4096, 100));
-    masking_agreement_print("Fig. 9 set 1, DESIGN frames, polar <= 55", &a);
+    masking_agreement_print("Fig. 9 set 1, model frames, polar <= 55", &a);
     assert_true(masking_agreement_worst_mean(&a) <= 0.01);
     plm_masking_reference_destroy(ref);
 }
 
 /* theta_bb = 45 deg: the level computations composed with the geometry's own
- * row frames and rise must match; the DESIGN-frame model is only measured
- * here (see the README's Masking section for why it differs). */
+ * row frames and rise must match; the model's frames are only measured
+ * here (docs/masking.md explains why they differ). */
 static void figure9_inclined_barbules_levels_match_explicit_geometry(void **state)
 {
     (void)state;
@@ -55,7 +55,7 @@ static void figure9_inclined_barbules_levels_match_explicit_geometry(void **stat
     masking_agreement a[2];
     assert_true(masking_compare_models(&p, ref, models, 2, a, 5.0, 55.0, 10.0, 30.0, 4096, 200));
     masking_agreement_print("Fig. 9 set 2, geometry's frames, polar <= 55", &a[0]);
-    masking_agreement_print("Fig. 9 set 2, DESIGN frames (measured)", &a[1]);
+    masking_agreement_print("Fig. 9 set 2, model frames (measured)", &a[1]);
     assert_true(masking_agreement_worst_mean(&a[0]) <= 0.01);
     plm_masking_reference_destroy(ref);
 }
