@@ -27,6 +27,15 @@ static int parse_value(const plm_command_help *help, plm_option *o, const char *
     case PLM_OPT_STRING:
         *(const char **)o->target = value;
         return 1;
+    case PLM_OPT_LIST: {
+        plm_opt_list *list = o->target;
+        if (list->count == PLM_OPT_LIST_MAX) {
+            fprintf(stderr, "error: %s: at most %d may be given\n", o->name, PLM_OPT_LIST_MAX);
+            return 0;
+        }
+        list->items[list->count++] = value;
+        return 1;
+    }
     case PLM_OPT_CHOICE:
         for (int i = 0; o->choices[i]; ++i)
             if (strcmp(o->choices[i], value) == 0) {

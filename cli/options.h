@@ -12,13 +12,21 @@ typedef enum plm_opt_kind {
     PLM_OPT_DOUBLE,  /* double in [lo, hi] */
     PLM_OPT_DOUBLES, /* `count` comma-separated doubles, each in [lo, hi] ("0.1,0.2,0.3") */
     PLM_OPT_STRING,  /* const char* pointing into argv */
-    PLM_OPT_CHOICE   /* int index into `choices` (NULL-terminated) */
+    PLM_OPT_CHOICE,  /* int index into `choices` (NULL-terminated) */
+    PLM_OPT_LIST     /* plm_opt_list: a string option that may be repeated */
 } plm_opt_kind;
+
+#define PLM_OPT_LIST_MAX 256
+
+typedef struct plm_opt_list {
+    const char *items[PLM_OPT_LIST_MAX]; /* pointing into argv, in command-line order */
+    int count;
+} plm_opt_list;
 
 typedef struct plm_option {
     const char *name;  /* "--eccentricity" */
     plm_opt_kind kind;
-    void *target;      /* int*, double* (array for DOUBLES), const char**, int* */
+    void *target;      /* int*, double* (array for DOUBLES), const char**, int*, plm_opt_list* */
     int count;         /* DOUBLES only */
     double lo, hi;     /* allowed closed range for numbers */
     const char *const *choices; /* CHOICE only */

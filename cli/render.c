@@ -1,11 +1,13 @@
 /* plumage render: a scene file in, a linear EXR and a tone-mapped PNG out. */
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "render/render.h"
+#include "cli/render_job.h"
 
 static volatile sig_atomic_t interrupted;
 
@@ -13,6 +15,13 @@ static void on_sigint(int sig)
 {
     (void)sig;
     interrupted = 1;
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* "dir/name.json" -> "name" + ext, in the working directory. */
@@ -25,14 +34,110 @@ static void default_output(const char *scene_path, const char *ext, char *out, s
     snprintf(out, size, "%.*s%s", len, base, ext);
 }
 
+/* Outputs: the job's own if it names any; else the scene's film.png/exr; with
+ * neither, both named after the scene. */
+static void choose_outputs(plm_render_job *job, const plm_film_desc *fd)
+{
+    if (job->png[0] || job->exr[0])
+        return;
+    snprintf(job->png, sizeof job->png, "%s", fd->png);
+    snprintf(job->exr, sizeof job->exr, "%s", fd->exr);
+    if (!job->png[0] && !job->exr[0]) {
+        default_output(job->scene, ".png", job->png, sizeof job->png);
+        default_output(job->scene, ".exr", job->exr, sizeof job->exr);
+    }
+}
+
+int plm_render_job_run(plm_render_job *job)
+{
+    plm_error err = {{0}};
+    plm_scene scene;
+    double t0 = now_seconds();
+    if (plm_scene_load_with(job->scene, job->sets, job->n_sets, &scene, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        return 1;
+    }
+    if (job->width > 0) {
+        scene.film.width = job->width;
+        scene.film.height = job->height;
+    }
+    choose_outputs(job, &scene.film);
+    plm_render_options ro = {0};
+    ro.threads = job->threads;
+    ro.spp = job->spp;
+    ro.max_depth = job->max_depth < 0 ? 0 : (job->max_depth == 0 ? -1 : job->max_depth);
+    ro.seed = job->seed < 0 ? 0 : (job->seed == 0 ? -1 : job->seed);
+    ro.estimator = (plm_estimator)job->estimator;
+    ro.progress = job->progress;
+    ro.cancel = job->cancel;
+    plm_film film;
+    double t1 = now_seconds();
+    if (plm_render(&scene, &ro, &film, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        plm_scene_free(&scene);
+        return 1;
+    }
+    double t2 = now_seconds();
+    int status = 0;
+    double exposure = job->exposure_given ? job->exposure : scene.film.exposure;
+    if (plm_film_write(&film, job->exr, job->png, exposure, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        status = 1;
+    }
+    job->load_seconds = t1 - t0;
+    job->render_seconds = t2 - t1;
+    job->write_seconds = now_seconds() - t2;
+    job->out_width = film.width;
+    job->out_height = film.height;
+    job->out_spp = job->spp > 0 ? job->spp : scene.film.spp;
+    job->out_seed = job->seed >= 0 ? (unsigned long long)job->seed : (unsigned long long)scene.film.seed;
+    job->samples = film.sample_count;
+    job->nonfinite = film.nonfinite;
+    job->interrupted = film.interrupted;
+    job->used_threads = film.threads;
+    fprintf(stderr, "%s%dx%d, %lld samples in %.2f s on %d threads (%.0f samples/s/thread)%s%s%s%s\n",
+            film.interrupted ? "interrupted: " : "", film.width, film.height, film.sample_count, film.seconds,
+            film.threads, film.seconds > 0 ? film.sample_count / film.seconds / film.threads : 0.0,
+            job->png[0] ? ", wrote " : "", job->png, job->exr[0] ? " " : "", job->exr);
+    if (film.nonfinite)
+        fprintf(stderr, "warning: %lld non-finite samples were dropped (counted as black)\n", film.nonfinite);
+    else
+        fprintf(stderr, "non-finite samples: 0\n");
+    plm_film_free(&film);
+    plm_scene_free(&scene);
+    return status ? status : (job->interrupted ? 130 : 0);
+}
+
+/* "640x480" -> 640, 480 (each in [1, 16384]). */
+static int parse_resolution(const char *s, int *w, int *h)
+{
+    char *end;
+    long a = strtol(s, &end, 10);
+    if (end == s || (*end != 'x' && *end != 'X'))
+        return 0;
+    const char *p = end + 1;
+    long b = strtol(p, &end, 10);
+    if (end == p || *end || a < 1 || a > 16384 || b < 1 || b > 16384)
+        return 0;
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+}
+
 int cmd_render(int argc, char **argv)
 {
     static const char *const estimators[] = {"mis", "nee", "bsdf", NULL};
     int spp = 0, threads = 0, seed = -1, max_depth = -1, quiet = 0, estimator = 0;
     double exposure = 0.0;
-    const char *png = NULL, *exr = NULL;
+    const char *png = NULL, *exr = NULL, *resolution = NULL;
+    plm_opt_list sets = {{0}, 0};
     plm_option opts[] = {
         {"--spp", PLM_OPT_INT, &spp, 0, 1, 1 << 24, NULL, "N", "samples per pixel (default: the scene's film.spp)", 0},
+        {"--resolution", PLM_OPT_STRING, &resolution, 0, 0, 0, NULL, "WxH",
+         "image size, each side in [1, 16384] (default: the scene's film.width x film.height)", 0},
+        {"--set", PLM_OPT_LIST, &sets, 0, 0, 0, NULL, "PATH=VALUE",
+         "change a field of the scene file before it is read, e.g. camera.fov=30 or lights.0.radiance=[1,1,1] "
+         "(repeatable; see docs/batch.md)", 0},
         {"--threads", PLM_OPT_INT, &threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
         {"--seed", PLM_OPT_INT, &seed, 0, 0, 2147483647, NULL, "N", "random seed (default: the scene's film.seed)", 0},
         {"--max-depth", PLM_OPT_INT, &max_depth, 0, 0, 1024, NULL, "N",
@@ -62,58 +167,35 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "error: plumage render needs exactly one scene file (see --help)\n");
         return 2;
     }
-    plm_error err = {{0}};
-    plm_scene scene;
-    if (plm_scene_load(positional[0], &scene, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        return 1;
+    plm_render_job job;
+    memset(&job, 0, sizeof job);
+    if (resolution && !parse_resolution(resolution, &job.width, &job.height)) {
+        fprintf(stderr, "error: --resolution: '%s' must be WxH, each a whole number in [1, 16384]\n", resolution);
+        return 2;
     }
-    /* Outputs: -o/--exr replace the scene's; with neither anywhere, name them after the scene. */
-    char png_path[PLM_PATH_MAX], exr_path[PLM_PATH_MAX];
-    int from_cli = png || exr;
-    snprintf(png_path, sizeof png_path, "%s", from_cli ? (png ? png : "") : scene.film.png);
-    snprintf(exr_path, sizeof exr_path, "%s", from_cli ? (exr ? exr : "") : scene.film.exr);
-    if (!from_cli && !png_path[0] && !exr_path[0]) {
-        default_output(positional[0], ".png", png_path, sizeof png_path);
-        default_output(positional[0], ".exr", exr_path, sizeof exr_path);
+    job.scene = positional[0];
+    job.sets = sets.items;
+    job.n_sets = sets.count;
+    job.spp = spp;
+    job.threads = threads;
+    job.max_depth = max_depth;
+    job.seed = seed;
+    job.estimator = estimator;
+    job.progress = !quiet;
+    job.exposure_given = opts[8].seen;
+    job.exposure = exposure;
+    /* -o/--exr replace the scene's outputs: with -o alone, no EXR. */
+    if (png || exr) {
+        snprintf(job.png, sizeof job.png, "%s", png ? png : "");
+        snprintf(job.exr, sizeof job.exr, "%s", exr ? exr : "");
     }
-    plm_render_options ro = {0};
-    ro.threads = threads;
-    ro.spp = spp;
-    ro.max_depth = max_depth < 0 ? 0 : (max_depth == 0 ? -1 : max_depth);
-    ro.seed = seed < 0 ? 0 : (seed == 0 ? -1 : seed);
-    ro.estimator = (plm_estimator)estimator;
-    ro.progress = !quiet;
-    ro.cancel = &interrupted;
+    job.cancel = &interrupted;
     struct sigaction sa, old;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_sigint;
     sa.sa_flags = SA_RESETHAND; /* a second Ctrl-C kills at once */
     sigaction(SIGINT, &sa, &old);
-
-    plm_film film;
-    int status = 0;
-    if (plm_render(&scene, &ro, &film, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        sigaction(SIGINT, &old, NULL);
-        plm_scene_free(&scene);
-        return 1;
-    }
+    int status = plm_render_job_run(&job);
     sigaction(SIGINT, &old, NULL);
-    double exp_stops = opts[6].seen ? exposure : scene.film.exposure;
-    if (plm_film_write(&film, exr_path, png_path, exp_stops, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        status = 1;
-    }
-    fprintf(stderr, "%s%dx%d, %lld samples in %.2f s on %d threads (%.0f samples/s/thread)%s%s%s%s\n",
-            film.interrupted ? "interrupted: " : "", film.width, film.height, film.sample_count, film.seconds,
-            film.threads, film.seconds > 0 ? film.sample_count / film.seconds / film.threads : 0.0,
-            png_path[0] ? ", wrote " : "", png_path, exr_path[0] ? " " : "", exr_path);
-    if (film.nonfinite)
-        fprintf(stderr, "warning: %lld non-finite samples were dropped (counted as black)\n", film.nonfinite);
-    else
-        fprintf(stderr, "non-finite samples: 0\n");
-    plm_film_free(&film);
-    plm_scene_free(&scene);
-    return status ? status : (film.interrupted ? 130 : 0);
+    return status;
 }

@@ -101,6 +101,10 @@ void plm_scene_free(plm_scene *scene);
 /* Reads a scene file (and the files it includes). On failure the scene is
  * freed and err names the file, the field path and the allowed values. */
 plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err);
+/* The same, with "path.to.field=value" assignments (common/json_set.h)
+ * applied to the top file's JSON before it is read. */
+plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
+                               plm_error *err);
 
 /* Builders; each returns the new element's index, or -1 when out of memory.
  * add_mesh takes ownership of mesh's arrays; add_material of the texture

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "common/json.h"
+#include "common/json_set.h"
 #include "common/rng.h"
 #include "render/feather_bsdf.h"
 #include "render/scene.h"
@@ -19,6 +20,8 @@ typedef struct loader {
     plm_scene *scene;
     plm_error *err;
     int camera_set, film_set; /* by a file nearer the top: includes do not override them */
+    const char *const *sets;  /* "path=value" overrides of the top file */
+    int n_sets;
 } loader;
 
 static plm_result load_file(loader *ld, const char *path, int depth);
@@ -800,16 +803,26 @@ static plm_result load_file(loader *ld, const char *path, int depth)
     plm_result rc = plm_json_load(path, &root, ld->err);
     if (rc != PLM_OK)
         return rc;
+    for (int i = 0; rc == PLM_OK && depth == 0 && i < ld->n_sets; ++i)
+        if ((rc = plm_json_set_assignment(root, ld->sets[i], ld->err)) != PLM_OK)
+            plm_error_prefix(ld->err, "%s: --set ", path);
     plm_json_reader r = {path, ld->err};
-    rc = read_scene(ld, &r, root, depth);
+    if (rc == PLM_OK)
+        rc = read_scene(ld, &r, root, depth);
     cJSON_Delete(root);
     return rc;
 }
 
 plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err)
 {
+    return plm_scene_load_with(path, NULL, 0, scene, err);
+}
+
+plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
+                               plm_error *err)
+{
     plm_scene_init(scene);
-    loader ld = {scene, err, 0, 0};
+    loader ld = {scene, err, 0, 0, sets, n_sets};
     plm_result rc = load_file(&ld, path, 0);
     if (rc != PLM_OK)
         plm_scene_free(scene);

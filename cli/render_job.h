@@ -1,0 +1,38 @@
+/* One render from a scene file to images, as `plumage render` and every
+ * `plumage batch` job do it: the scene read with its overrides, rendered,
+ * written atomically, and the figures a summary needs handed back. */
+#ifndef PLUMAGE_CLI_RENDER_JOB_H
+#define PLUMAGE_CLI_RENDER_JOB_H
+
+#include <signal.h>
+
+#include "render/render.h"
+
+typedef struct plm_render_job {
+    /* inputs: zero means "as the scene says" */
+    const char *scene;
+    const char *const *sets; /* "path=value" overrides (common/json_set.h) */
+    int n_sets;
+    int spp, width, height, threads, max_depth; /* max_depth: -1 = the scene's */
+    long long seed;                             /* -1 = the scene's film.seed */
+    int estimator;
+    int progress;
+    int exposure_given;
+    double exposure;
+    char png[PLM_PATH_MAX], exr[PLM_PATH_MAX]; /* both "": the scene's film.png/exr (see plm_render_job_run) */
+    volatile sig_atomic_t *cancel;
+    /* outputs */
+    int out_width, out_height, out_spp;
+    unsigned long long out_seed;
+    long long samples, nonfinite;
+    int interrupted, used_threads;
+    double load_seconds;   /* reading the scene, generating its feathers */
+    double render_seconds; /* building the world and sampling */
+    double write_seconds;
+} plm_render_job;
+
+/* Runs the job; messages go to stderr. Returns the exit status: 0, 1 on
+ * an error, 130 if *cancel stopped the render (the image so far is written). */
+int plm_render_job_run(plm_render_job *job);
+
+#endif
