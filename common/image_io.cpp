@@ -1,4 +1,5 @@
-// OpenImageIO adapter behind common/image_io.h: the only C++ in common/.
+// OpenImageIO adapter behind common/image_io.h, built as the module that
+// image_module.c opens on first use (see common/image_module.h).
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -10,7 +11,7 @@
 
 extern "C" {
 #include "common/fileio.h"
-#include "common/image_io.h"
+#include "common/image_module.h"
 }
 
 using OIIO::ImageInput;
@@ -27,8 +28,8 @@ static TypeDesc oiio_type(plm_pixel_type t)
     }
 }
 
-extern "C" plm_result plm_image_write(const char *path, int width, int height, int channels, plm_pixel_type type,
-                                      const void *data, plm_error *err)
+static plm_result oiio_write(const char *path, int width, int height, int channels, plm_pixel_type type,
+                             const void *data, plm_error *err)
 {
     if (width <= 0 || height <= 0 || channels <= 0)
         return plm_fail(err, PLM_ERR_INVALID, "%s: invalid image size %dx%dx%d", path, width, height, channels);
@@ -59,8 +60,7 @@ extern "C" plm_result plm_image_write(const char *path, int width, int height, i
     return PLM_OK;
 }
 
-extern "C" plm_result plm_image_read(const char *path, int *width, int *height, int *channels, float **pixels,
-                                     plm_error *err)
+static plm_result oiio_read(const char *path, int *width, int *height, int *channels, float **pixels, plm_error *err)
 {
     *pixels = nullptr;
     auto in = ImageInput::open(path);
@@ -85,8 +85,8 @@ extern "C" plm_result plm_image_read(const char *path, int *width, int *height, 
     return PLM_OK;
 }
 
-extern "C" plm_result plm_image_draw_text(plm_image *img, int x, int y, int size_px, const char *text,
-                                          const float color[3], plm_error *err)
+static plm_result oiio_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
+                                 plm_error *err)
 {
     if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || (img->channels != 3 && img->channels != 4))
         return plm_fail(err, PLM_ERR_INVALID, "draw text: the image must be float with 3 or 4 channels");
@@ -106,3 +106,6 @@ extern "C" plm_result plm_image_draw_text(plm_image *img, int x, int y, int size
     }
     return PLM_OK;
 }
+
+extern "C" __attribute__((visibility("default"))) const plm_image_module plm_image_module_table = {
+    sizeof(plm_image_module), oiio_write, oiio_read, oiio_draw_text};

@@ -1,0 +1,48 @@
+# Start-up: commands that touch no image do not load the image library
+# (OpenImageIO is a module opened on first use); commands that do find it, and
+# a missing module is a clear error naming the path that was tried.
+# usage: bash cli_startup.sh <plumage> <scratch dir>
+set -u
+source "$(dirname "$0")/lib_cli.sh"
+
+# loaded_libraries CMD...: the shared objects the dynamic loader opened (stdin: dirs.txt).
+printf '0 1 0\n0.3 0.8 0.2\n' > dirs.txt
+loaded_libraries() { LD_DEBUG=files "$@" 2>&1 >/dev/null <dirs.txt | grep -o 'file=[^ ]*' | sort -u; }
+
+if loaded_libraries "$PLUMAGE" --help | grep -q 'file=lib'; then
+    libs=$(loaded_libraries "$PLUMAGE" --help)
+    echo "$libs" | grep -qi 'OpenImageIO\|plumage_image' && fail "--help loads no image library: $libs" \
+        || pass "--help loads no image library"
+    libs=$(loaded_libraries "$PLUMAGE" probe masking)
+    echo "$libs" | grep -qi 'OpenImageIO\|plumage_image' && fail "probe masking loads no image library: $libs" \
+        || pass "probe masking loads no image library"
+    [ "$(echo "$libs" | wc -l)" -le 20 ] && pass "probe masking opens at most 20 shared objects" \
+        || fail "probe masking opens at most 20 shared objects: $libs"
+    libs=$(loaded_libraries "$PLUMAGE" probe masking --figure fig.png --width 16)
+    echo "$libs" | grep -q 'plumage_image_oiio' && pass "writing a picture opens the image module" \
+        || fail "writing a picture opens the image module"
+else
+    echo "skip LD_DEBUG checks: the dynamic loader prints no file list here (static or sanitized build?)"
+fi
+
+expect_ok "the module writes a picture" "$PLUMAGE" probe masking --figure fig.png --width 16
+[ -s fig.png ] && pass "picture written" || fail "picture written"
+PLUMAGE_IMAGE_MODULE=$PWD/nowhere/plumage_image_oiio.so expect_stderr "a missing module names its path" \
+    "not found: looked for .*nowhere/plumage_image_oiio.so" "$PLUMAGE" probe masking --figure missing.png --width 16
+[ -e missing.png ] && fail "no output without the module" || pass "no output without the module"
+echo "not a library" > broken.so
+PLUMAGE_IMAGE_MODULE=$PWD/broken.so expect_stderr "a broken module names its path" \
+    "broken.so cannot be loaded" "$PLUMAGE" probe masking --figure missing.png --width 16
+
+# The install layout: bin/plumage finds <libdir>/plumage/plumage_image_oiio.so.
+if [ -n "${PLUMAGE_BUILD_DIR:-}" ]; then
+    expect_ok "install into a prefix" cmake --install "$PLUMAGE_BUILD_DIR" --prefix "$PWD/prefix"
+    libs=$(loaded_libraries "$PWD/prefix/bin/plumage" probe masking --figure installed.png --width 16)
+    echo "$libs" | grep -q "file=$PWD/prefix/bin/\.\./lib.*/plumage/plumage_image_oiio.so" \
+        && pass "the installed plumage opens the installed module" \
+        || fail "the installed plumage opens the installed module: $(echo "$libs" | grep plumage)"
+    [ -s installed.png ] && pass "the installed plumage writes a picture" || fail "the installed plumage writes a picture"
+else
+    echo "skip install layout: PLUMAGE_BUILD_DIR is not set (ctest sets it)"
+fi
+finish
