@@ -1,8 +1,12 @@
 // OpenMesh adapter behind common/mesh.h: PLY and OBJ files of a plm_mesh.
 //
-// PLY (binary, little endian) carries positions, normals, uvs and tangents;
-// the tangents travel as three extra float vertex properties "tx", "ty", "tz"
-// (OpenMesh's custom persistent properties). OBJ has no place for tangents:
+// PLY (binary, little endian) carries positions, normals, uvs and tangents.
+// The uvs are named "s", "t", the names most PLY readers know (Blender 3.4
+// knows no other; OpenMesh reads them as texture coordinates too), and the
+// tangents are three extra float vertex properties "tx", "ty", "tz". OpenMesh's
+// writer names texture coordinates "u", "v" with no way to change it, so in PLY
+// both travel as its custom persistent properties (see docs/assets.md).
+// OBJ has no place for tangents:
 // it carries positions, normals and uvs, and readers derive tangents from the
 // uvs. Writes go to a temporary file beside the destination and are renamed
 // into place, so a failed write leaves nothing behind.
@@ -35,6 +39,7 @@ struct plm_om_traits : OpenMesh::DefaultTraits {
 typedef OpenMesh::TriMesh_ArrayKernelT<plm_om_traits> om_mesh;
 
 const char *const tangent_names[3] = {"tx", "ty", "tz"};
+const char *const ply_uv_names[2] = {"s", "t"};
 
 // OpenMesh prints its own diagnostics on std::cerr; plumage reports errors
 // through plm_error instead, so they are switched off once per process.
@@ -62,7 +67,22 @@ bool all_finite(const float *v, size_t n)
     return true;
 }
 
-plm_result build_om_mesh(const char *path, const plm_mesh *m, om_mesh &om, plm_error *err)
+// Stores n components per vertex of `values` as n float vertex properties
+// that OpenMesh's writers save by name.
+void add_named_properties(om_mesh &om, const char *const *names, int n, const float *values)
+{
+    for (int c = 0; c < n; ++c) {
+        OpenMesh::VPropHandleT<float> h;
+        om.add_property(h, names[c]);
+        om.property(h).set_persistent(true);
+        for (size_t i = 0; i < om.n_vertices(); ++i)
+            om.property(h, om.vertex_handle((unsigned)i)) = values[(size_t)n * i + c];
+    }
+}
+
+// ply: the uvs become the named properties "s", "t" instead of OpenMesh's
+// texture coordinates.
+plm_result build_om_mesh(const char *path, const plm_mesh *m, bool ply, om_mesh &om, plm_error *err)
 {
     if (m->vertex_count <= 0 || m->triangle_count <= 0 || !m->positions || !m->indices)
         return plm_fail(err, PLM_ERR_INVALID, "%s: the mesh is empty (%d vertices, %d triangles)", path,
@@ -77,7 +97,7 @@ plm_result build_om_mesh(const char *path, const plm_mesh *m, om_mesh &om, plm_e
         om_mesh::VertexHandle vh = om.add_vertex(om_mesh::Point(p[0], p[1], p[2]));
         if (m->normals)
             om.set_normal(vh, om_mesh::Normal(m->normals[3 * i], m->normals[3 * i + 1], m->normals[3 * i + 2]));
-        if (m->uvs)
+        if (m->uvs && !ply)
             om.set_texcoord2D(vh, om_mesh::TexCoord2D(m->uvs[2 * i], m->uvs[2 * i + 1]));
     }
     for (int t = 0; t < m->triangle_count; ++t) {
@@ -95,15 +115,10 @@ plm_result build_om_mesh(const char *path, const plm_mesh *m, om_mesh &om, plm_e
                             "%s: triangle %d (%u %u %u) makes the mesh non-manifold", path, t,
                             idx[0], idx[1], idx[2]);
     }
-    if (m->tangents) {
-        for (int c = 0; c < 3; ++c) {
-            OpenMesh::VPropHandleT<float> h;
-            om.add_property(h, tangent_names[c]);
-            om.property(h).set_persistent(true);
-            for (size_t i = 0; i < nv; ++i)
-                om.property(h, om.vertex_handle((unsigned)i)) = m->tangents[3 * i + c];
-        }
-    }
+    if (m->uvs && ply)
+        add_named_properties(om, ply_uv_names, 2, m->uvs);
+    if (m->tangents)
+        add_named_properties(om, tangent_names, 3, m->tangents);
     return PLM_OK;
 }
 
@@ -174,18 +189,19 @@ extern "C" plm_result plm_mesh_write(const char *path, const plm_mesh *mesh, plm
     if (!is_supported_extension(path, ext, sizeof ext))
         return plm_fail(err, PLM_ERR_INVALID, "%s: unsupported mesh format '.%s' (use .ply or .obj)", path, ext);
     quiet_openmesh();
+    bool ply = std::strcmp(ext, "ply") == 0;
     om_mesh om;
-    plm_result rc = build_om_mesh(path, mesh, om, err);
+    plm_result rc = build_om_mesh(path, mesh, ply, om, err);
     if (rc != PLM_OK)
         return rc;
     OpenMesh::IO::Options opt;
-    if (std::strcmp(ext, "ply") == 0)
+    if (ply)
         opt += OpenMesh::IO::Options::Binary | OpenMesh::IO::Options::LSB;
     if (mesh->normals)
         opt += OpenMesh::IO::Options::VertexNormal;
-    if (mesh->uvs)
+    if (mesh->uvs && !ply)
         opt += OpenMesh::IO::Options::VertexTexCoord;
-    if (mesh->tangents)
+    if (mesh->tangents || (mesh->uvs && ply))
         opt += OpenMesh::IO::Options::Custom;
     char temp[4096];
     plm_temp_path_for(path, temp, sizeof temp);

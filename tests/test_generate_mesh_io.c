@@ -133,6 +133,45 @@ static void optional_attributes_stay_absent(void **state)
     remove("mesh_io_bare.ply");
 }
 
+/* The PLY header names the uvs "s", "t": Blender 3.4's importer knows no
+ * other names (see docs/assets.md). Files with "u", "v" still read. */
+static void ply_uvs_are_named_s_t(void **state)
+{
+    (void)state;
+    plm_mesh m = make_grid(1);
+    plm_error err = {{0}};
+    assert_int_equal(plm_mesh_write("mesh_io_names.ply", &m, &err), PLM_OK);
+    char header[1024] = {0};
+    FILE *f = fopen("mesh_io_names.ply", "rb");
+    assert_non_null(f);
+    size_t n = fread(header, 1, sizeof header - 1, f);
+    fclose(f);
+    header[n] = '\0';
+    char *end = strstr(header, "end_header");
+    assert_non_null(end);
+    *end = '\0';
+    assert_non_null(strstr(header, "property float s\nproperty float t\n"));
+    assert_null(strstr(header, "property float u\n"));
+    remove("mesh_io_names.ply");
+    plm_mesh_free(&m);
+
+    static const char uv_ply[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                 "property float z\nproperty float u\nproperty float v\nelement face 1\n"
+                                 "property list uchar int vertex_indices\nend_header\n"
+                                 "0 0 0 0.25 0.5\n1 0 0 0.75 0.5\n0 1 0 0.25 1\n3 0 1 2\n";
+    f = fopen("mesh_io_uv.ply", "wb");
+    assert_non_null(f);
+    fputs(uv_ply, f);
+    fclose(f);
+    plm_mesh r;
+    assert_int_equal(plm_mesh_read("mesh_io_uv.ply", &r, &err), PLM_OK);
+    assert_non_null(r.uvs);
+    const float expected[6] = {0.25f, 0.5f, 0.75f, 0.5f, 0.25f, 1.0f};
+    assert_floats(r.uvs, expected, 6, 0.0f);
+    plm_mesh_free(&r);
+    remove("mesh_io_uv.ply");
+}
+
 /* Writing the same mesh twice gives the same bytes. */
 static void writes_are_reproducible(void **state)
 {
@@ -217,6 +256,7 @@ int main(void)
         cmocka_unit_test(ply_round_trip_is_exact),
         cmocka_unit_test(obj_round_trip_keeps_geometry),
         cmocka_unit_test(optional_attributes_stay_absent),
+        cmocka_unit_test(ply_uvs_are_named_s_t),
         cmocka_unit_test(writes_are_reproducible),
         cmocka_unit_test(bad_input_fails_cleanly),
     };
