@@ -18,6 +18,8 @@ for s in "$SPECIES"/*.json; do
         [ -s "out_$name/$f" ] || missing="$missing $f"
     done
     if [ -z "$missing" ]; then pass "$name files"; else fail "$name files missing:$missing"; fi
+    expect_image "$name textures" 128 128 "out_$name/texture.exr" "out_$name/texture.png"
+    IMAGE_MIN_MEAN=0 expect_image "$name pigment" 128 128 "out_$name/pigment.exr" "out_$name/pigment.png"
 done
 if grep -q '"type":[[:space:]]*"feather"' out_remex_pigeon/feather.json &&
    grep -q '"texture.exr"' out_remex_pigeon/feather.json && grep -q '"vane.ply"' out_remex_pigeon/feather.json &&
@@ -35,7 +37,7 @@ fi
 # The renderer reads what the generator wrote (meshes, texture, scene).
 expect_ok "render the generated scene" "$PLUMAGE" render out_covert_parrot/feather.json --spp 1 --threads 2 \
     -o rendered.png --quiet
-[ -s rendered.png ] && pass "rendered.png written" || fail "no rendered.png"
+expect_image "rendered.png" 384 768 rendered.png
 
 # Same species, same bytes (EXR: OpenImageIO stamps the header with the
 # write time, so the comparison starts after the 512-byte header).
@@ -49,7 +51,9 @@ done
 
 # Textures alone, one format.
 expect_ok "texture command" "$PLUMAGE" texture --species "$SPECIES/remex_pigeon.json" -o tex --texture-size 64 --format png
-if [ -s tex/texture.png ] && [ -s tex/pigment.png ] && [ ! -e tex/texture.exr ] && [ ! -e tex/vane.ply ]; then
+expect_image "texture command texture.png" 64 64 tex/texture.png
+IMAGE_MIN_MEAN=0 expect_image "texture command pigment.png" 64 64 tex/pigment.png
+if [ ! -e tex/texture.exr ] && [ ! -e tex/vane.ply ]; then
     pass "texture writes only the PNG textures"
 else
     fail "texture outputs: $(ls tex 2>&1)"
@@ -79,7 +83,7 @@ expect_fail "no output directory" "$PLUMAGE" generate --species "$SPECIES/remex_
 
 # Contact sheet and benchmark.
 expect_ok "contact sheet" "$PLUMAGE" generate --contact-sheet sheet.png --tile 128 --texture-size 128 "$SPECIES"/*.json
-[ -s sheet.png ] && pass "contact sheet written" || fail "no sheet.png"
+expect_image "contact sheet" "[0-9]+" 128 sheet.png
 expect_output "bench generate" "generate_ms [0-9.]+" "$PLUMAGE" bench generate --species "$SPECIES/remex_pigeon.json" \
     --runs 1 --texture-size 64
 finish

@@ -27,3 +27,25 @@ expect_stderr() {
     if ! "$@" >out.txt 2>err.txt </dev/null && grep -Eq -- "$p" err.txt; then pass "$n"; else fail "$n: $(head -c 400 err.txt)"; fi
 }
 finish() { echo "$PASSED passed, $FAILED failed"; [ "$FAILED" -eq 0 ]; }
+
+# expect_image NAME WIDTH HEIGHT FILE...: each FILE is a WIDTH x HEIGHT image
+# (grep -E patterns), every pixel finite, and not black: the mean over pixels
+# and channels, as a fraction of full scale for 8/16-bit files, exceeds
+# IMAGE_MIN_MEAN (default 0.01). One oiiotool --stats call reads them all, so
+# a missing or unreadable file fails too.
+expect_image() {
+    local n=$1 w=$2 h=$3 stats bad
+    shift 3
+    if ! stats=$(oiiotool --info -v --stats "$@" 2>&1); then fail "$n: $(echo "$stats" | grep -m1 ERROR)"; return; fi
+    bad=$(echo "$stats" | awk -v w="$w" -v h="$h" -v min="${IMAGE_MIN_MEAN:-0.01}" -v want=$# '
+        $2 == ":" && $4 == "x" { f = $1; ++seen; sub(",", "", $5)
+                                 if ($3 !~ "^(" w ")$" || $5 !~ "^(" h ")$") print f " is " $3 " x " $5 }
+        /Stats (NanCount|InfCount):/ { for (i = 3; i <= NF; ++i) if ($i != 0) print f " " $2 " " $i }
+        /Stats Avg:/ { scale = 1; s = 0; c = 0
+                       for (i = 3; i <= NF; ++i) { if ($i == "(of") scale = $(i + 1) + 0; else if ($i ~ /^[-0-9.e+]+$/) { s += $i; ++c } }
+                       if (c == 0 || s / c / scale <= min) print f " black: mean " (c ? s / c / scale : 0) " of full scale" }
+        END { if (seen != want) print "read " seen " of " want " images" }')
+    if [ -n "$bad" ]; then fail "$n: $(echo $bad)"; else pass "$n"; fi
+}
+# same_pixels A B: the two images have identical pixels (headers are not compared).
+same_pixels() { idiff -q -fail 0 -warn 0 "$1" "$2" >/dev/null 2>&1; }
