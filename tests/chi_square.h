@@ -35,4 +35,16 @@ static double chi_square_test(const double *observed, const double *expected, in
     return 0.5 * erfc(z / sqrt(2.0));
 }
 
+/* The cell of a theta-major grid of nt x np cells over theta in [-pi/2, pi/2]
+ * and phi in [-pi, pi] holding the direction (theta, phi); values on or past
+ * an edge go to the edge cell. */
+static inline int chi_square_cell(double theta, double phi, int nt, int np)
+{
+    const double pi = 3.14159265358979323846;
+    int it = (int)((theta + 0.5 * pi) / pi * nt), ip = (int)((phi + pi) / (2.0 * pi) * np);
+    it = it < 0 ? 0 : it >= nt ? nt - 1 : it;
+    ip = ip < 0 ? 0 : ip >= np ? np - 1 : ip;
+    return it * np + ip;
+}
+
 #endif

@@ -1,6 +1,6 @@
 /* Helpers shared by the feather BSDF tests (test_feather_bsdf.c,
  * slow_render.c): a feather material on a plane, the Monte Carlo integral
- * of eval, and pbrt-v4's chi-square test of sample against pdf. */
+ * of eval, and the chi-square test (chi_square.h) of sample against pdf. */
 #ifndef PLUMAGE_TESTS_FEATHER_BSDF_STATS_H
 #define PLUMAGE_TESTS_FEATHER_BSDF_STATS_H
 
@@ -12,6 +12,7 @@
 #include "render/bsdf.h"
 #include "render/feather_bsdf.h"
 #include "render/sampling.h"
+#include "tests/chi_square.h"
 
 /* A feather material whose texture is vane everywhere with barbs at angle a (uv space). */
 static plm_material feather_material(const plm_feather_params *p, double a)
@@ -91,24 +92,13 @@ static double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, d
     return albedo;
 }
 
-/* Upper tail of the chi-square distribution (Wilson-Hilferty cube-root normal approximation). */
-static double chi2_p_value(double chi2, int dof)
-{
-    double k = dof, z = (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
-    return 0.5 * erfc(z / sqrt(2.0));
-}
-
 enum { THETA_BINS = 60, PHI_BINS = 120 };
 
 /* Cell of the (theta, phi) grid of frame f holding w (theta = asin(w.z), phi = atan2(w.y, w.x)). */
 static int grid_cell(const frame *f, vec3 w)
 {
     vec3 l = frame_to_local(f, w);
-    double theta = asin(plm_clamp(l.z, -1, 1)), phi = atan2(l.y, l.x);
-    int it = (int)((theta + 0.5 * PLM_PI) / (PLM_PI / THETA_BINS)), ip = (int)((phi + PLM_PI) / (PLM_TWO_PI / PHI_BINS));
-    it = it < 0 ? 0 : it >= THETA_BINS ? THETA_BINS - 1 : it;
-    ip = ip < 0 ? 0 : ip >= PHI_BINS ? PHI_BINS - 1 : ip;
-    return it * PHI_BINS + ip;
+    return chi_square_cell(asin(plm_clamp(l.z, -1, 1)), atan2(l.y, l.x), THETA_BINS, PHI_BINS);
 }
 
 /* Histogram of plm_bsdf_sample over a (theta, phi) grid of the barb frame
@@ -153,24 +143,7 @@ static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
     for (int i = 0; i < THETA_BINS * PHI_BINS; ++i)
         total += expected[i];
     assert_true(fabs(total / n - 1.0) < 0.01); /* the pdf integrates to 1 */
-    double chi2 = 0.0, pooled_e = 0.0, pooled_o = 0.0;
-    int dof = 0;
-    for (int i = 0; i < THETA_BINS * PHI_BINS; ++i) {
-        if (expected[i] == 0.0 && observed[i] > 0.0)
-            return 0.0;
-        if (expected[i] < 5.0) {
-            pooled_e += expected[i];
-            pooled_o += observed[i];
-        } else {
-            chi2 += plm_sqr(observed[i] - expected[i]) / expected[i];
-            ++dof;
-        }
-    }
-    if (pooled_e > 0.0) {
-        chi2 += plm_sqr(pooled_o - pooled_e) / pooled_e;
-        ++dof;
-    }
-    return chi2_p_value(chi2, dof - 1);
+    return chi_square_test(observed, expected, THETA_BINS * PHI_BINS);
 }
 
 #endif
