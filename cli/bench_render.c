@@ -16,6 +16,7 @@
 #include "common/rng.h"
 #include "render/feather_bsdf.h"
 #include "render/render.h"
+#include "scene/feathers.h"
 
 /* The analytic vane texture of presets/scenes/vane_texture.png: an ogive
  * outline, a tapering rachis stripe, barbs at 35 to 60 degrees from the rachis. */
@@ -91,18 +92,18 @@ static int add_vane_quad(plm_scene *s, prototype *p, plm_error *err)
 
 static int add_species(plm_scene *s, const char *species, prototype *p, plm_error *err)
 {
-    if (plm_scene_add_species_feather(s, "f", species, 3, 1024, err) != PLM_OK)
+    plm_feather_cache cache = {0};
+    plm_feather_request q = {species, 3, 1024, 0};
+    plm_feather_parts parts;
+    plm_result rc = plm_feather_cache_get(&cache, s, "f", &q, &parts, err);
+    plm_feather_cache_free(&cache);
+    if (rc != PLM_OK)
         return 0;
-    *p = (prototype){2,
-                     {plm_scene_find_mesh(s, "f.vane"), plm_scene_find_mesh(s, "f.rachis")},
-                     {plm_scene_find_material(s, "f"), plm_scene_find_material(s, "f.rachis")},
-                     1.0};
     /* Scale the feather (in millimetres) to a length of about one unit. */
-    const plm_mesh *m = &s->meshes[p->mesh[0]].mesh;
-    double lo = INFINITY, hi = -INFINITY;
-    for (int v = 0; v < m->vertex_count; ++v)
-        lo = fmin(lo, m->positions[3 * v + 1]), hi = fmax(hi, m->positions[3 * v + 1]);
-    p->scale = hi > lo ? 1.0 / (hi - lo) : 1.0;
+    *p = (prototype){2,
+                     {parts.mesh[0], parts.mesh[1]},
+                     {parts.material[0], parts.material[1]},
+                     parts.length > 0.0 ? 1.0 / parts.length : 1.0};
     return 1;
 }
 

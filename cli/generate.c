@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/image_io.h"
+#include "common/json.h"
 #include "texture/feather.h"
 #include "texture/preview.h"
 
@@ -22,6 +23,18 @@ static int load_species(const char *path, plm_species *sp)
         return 0;
     }
     return 1;
+}
+
+/* The species file's optics block for feather.json (the generator does not keep it). */
+static cJSON *load_optics(const char *path)
+{
+    cJSON *root = NULL;
+    plm_error err;
+    if (plm_json_load(path, &root, &err) != PLM_OK)
+        return NULL;
+    cJSON *optics = cJSON_DetachItemFromObjectCaseSensitive(root, "optics");
+    cJSON_Delete(root);
+    return optics;
 }
 
 /* Three panels per feather: an oblique view, a side view (bend and curl)
@@ -129,6 +142,7 @@ static int run(int argc, char **argv, int textures_only)
     plm_species sp;
     if (!load_species(species, &sp))
         return 1;
+    cJSON *optics = load_optics(species);
     plm_feather f;
     plm_error err;
     plm_feather_files files = {obj, format == 2, format == 1};
@@ -138,10 +152,11 @@ static int run(int argc, char **argv, int textures_only)
         triangles[0] = f.vane.triangle_count;
         triangles[1] = f.rachis.triangle_count;
         r = textures_only ? plm_feather_write_textures(&f, output, &files, &err)
-                          : plm_feather_write(&f, &sp, output, &files, &err);
+                          : plm_feather_write(&f, optics, output, &files, &err);
         plm_feather_free(&f);
     }
     plm_species_free(&sp);
+    cJSON_Delete(optics);
     if (r != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);
         return 1;

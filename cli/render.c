@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_job.h"
+#include "scene/scene_file.h"
 
 static volatile sig_atomic_t interrupted;
 

@@ -7,27 +7,36 @@
 
 #include "common/fileio.h"
 
+plm_result plm_json_parse(const char *text, size_t length, const char *name, cJSON **out, plm_error *err)
+{
+    const char *end = NULL;
+    *out = cJSON_ParseWithLengthOpts(text, length, &end, 0);
+    /* Only white space (or a terminating NUL) may follow the value. */
+    while (*out && end < text + length && (*end == ' ' || *end == '\t' || *end == '\n' || *end == '\r'))
+        ++end;
+    if (*out && (end == text + length || *end == '\0'))
+        return PLM_OK;
+    cJSON_Delete(*out);
+    *out = NULL;
+    /* Report where parsing stopped as line:column. */
+    int line = 1, col = 1;
+    for (const char *p = text; end && p < end && p < text + length; ++p, ++col)
+        if (*p == '\n') {
+            ++line;
+            col = 0;
+        }
+    return plm_fail(err, PLM_ERR_PARSE, "%s:%d:%d: malformed JSON", name, line, col);
+}
+
 plm_result plm_json_load(const char *path, cJSON **out, plm_error *err)
 {
     char *text;
     plm_result rc = plm_read_text_file(path, &text, err);
     if (rc != PLM_OK)
         return rc;
-    const char *end = NULL;
-    *out = cJSON_ParseWithOpts(text, &end, 1);
-    if (!*out) {
-        /* Report where parsing stopped as line:column. */
-        int line = 1, col = 1;
-        for (const char *p = text; end && p < end && *p; ++p, ++col)
-            if (*p == '\n') {
-                ++line;
-                col = 0;
-            }
-        free(text);
-        return plm_fail(err, PLM_ERR_PARSE, "%s:%d:%d: malformed JSON", path, line, col);
-    }
+    rc = plm_json_parse(text, strlen(text), path, out, err);
     free(text);
-    return PLM_OK;
+    return rc;
 }
 
 static const char *join(char *buf, size_t n, const char *path, const char *key)

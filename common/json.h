@@ -7,6 +7,8 @@
 #ifndef PLUMAGE_COMMON_JSON_H
 #define PLUMAGE_COMMON_JSON_H
 
+#include <stddef.h>
+
 #include <cjson/cJSON.h>
 #include "common/error.h"
 #include "common/vec.h"
@@ -18,6 +20,8 @@ typedef struct plm_json_reader {
 
 /* Parses a file; on a syntax error the message gives the line and column. */
 plm_result plm_json_load(const char *path, cJSON **out, plm_error *err);
+/* The same for text in memory (not necessarily NUL-terminated); name is shown in messages. */
+plm_result plm_json_parse(const char *text, size_t length, const char *name, cJSON **out, plm_error *err);
 
 /* Fails if obj (at path) is not an object or has a key outside allowed
  * (a NULL-terminated list). */

@@ -263,13 +263,9 @@ static plm_result parse_species(const plm_json_reader *r, const cJSON *root, plm
         TRY(parse_shape(r, sub, &out->shape));
     if ((sub = cJSON_GetObjectItemCaseSensitive(root, "pigment")))
         TRY(parse_pigment(r, sub, &out->pigment));
-    if ((sub = cJSON_GetObjectItemCaseSensitive(root, "optics"))) {
-        if (!cJSON_IsObject(sub))
-            return plm_json_fail(r, "", "optics", "expected an object");
-        out->optics = cJSON_Duplicate(sub, 1);
-        if (!out->optics)
-            return plm_fail(r->err, PLM_ERR_NO_MEMORY, "%s: out of memory", r->file);
-    }
+    /* The optics block is the renderer's: scene/ reads it from the same file. */
+    if ((sub = cJSON_GetObjectItemCaseSensitive(root, "optics")) && !cJSON_IsObject(sub))
+        return plm_json_fail(r, "", "optics", "expected an object");
     return PLM_OK;
 }
 
@@ -350,6 +346,5 @@ plm_result plm_species_validate(const plm_species *s, const char *file, plm_erro
 
 void plm_species_free(plm_species *s)
 {
-    cJSON_Delete(s->optics);
-    s->optics = NULL;
+    memset(s, 0, sizeof *s);
 }

@@ -1,8 +1,10 @@
 /* A species preset: the biological description of one kind of feather.
  *
  * The `shape` block drives the generator (every field, its unit, range,
- * default and source is listed in docs/species.md); `pigment` drives the optional pigment image; `optics` belongs to
- * the renderer and is carried through untouched.
+ * default and source is listed in docs/species.md); `pigment` drives the
+ * optional pigment image. The `optics` block belongs to the renderer: the
+ * parser only checks that it is an object, and scene/ reads it from the file
+ * (generate/ knows nothing of rendering).
  *
  * The feather lies in its own frame: the rachis runs along +y from the base
  * of the calamus (y = 0) to the tip (y = length), the vanes spread along x
@@ -78,7 +80,6 @@ typedef struct plm_species {
     char name[128];
     plm_shape shape;
     plm_pigment pigment;
-    cJSON *optics; /* the renderer's block, copied untouched; NULL if absent */
 } plm_species;
 
 /* The defaults of every field (a generic contour feather). */
@@ -92,6 +93,7 @@ plm_result plm_species_parse(const cJSON *root, const char *file, plm_species *o
  * (tip no wider than base, splits inside the vane, barbs that stay barbs). */
 plm_result plm_species_validate(const plm_species *s, const char *file, plm_error *err);
 
+/* Releases what parsing allocated (today nothing) and zeroes the struct. */
 void plm_species_free(plm_species *s);
 
 #endif

@@ -5,13 +5,6 @@
 
 #include "common/image_io.h"
 
-static plm_region decode_region(float value)
-{
-    if (value < 0.25f)
-        return PLM_REGION_BACKGROUND;
-    return value < 0.75f ? PLM_REGION_RACHIS : PLM_REGION_VANE;
-}
-
 plm_result plm_feather_texture_from_pixels(int width, int height, float *pixels, plm_feather_texture *out,
                                            plm_error *err)
 {
@@ -25,7 +18,7 @@ plm_result plm_feather_texture_from_pixels(int width, int height, float *pixels,
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d feather texture", width, height);
     }
     for (long i = 0; i < (long)width * height; ++i)
-        out->region[i] = (unsigned char)decode_region(pixels[3 * i + 2]);
+        out->region[i] = (unsigned char)plm_ftex_decode_region(pixels[PLM_FTEX_CHANNELS * i + PLM_FTEX_REGION]);
     return PLM_OK;
 }
 
@@ -81,6 +74,13 @@ plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv)
     return (plm_region)t->region[texel_index(t, nearest(x), nearest(y))];
 }
 
+/* The (unnormalised) direction stored in texel i. */
+static vec2 texel_direction(const plm_feather_texture *t, long i)
+{
+    const float *px = t->pixels + PLM_FTEX_CHANNELS * i;
+    return v2(plm_ftex_decode_component(px[PLM_FTEX_COS]), plm_ftex_decode_component(px[PLM_FTEX_SIN]));
+}
+
 vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
 {
     double x, y;
@@ -95,13 +95,13 @@ vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
             if (t->region[i] != t->region[centre])
                 continue;
             double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
-            sum = v2_add(sum, v2_scale(v2(2.0 * t->pixels[3 * i] - 1.0, 2.0 * t->pixels[3 * i + 1] - 1.0), w));
+            sum = v2_add(sum, v2_scale(texel_direction(t, i), w));
         }
     double len = v2_length(sum);
     if (len > 1e-6)
         return v2_scale(sum, 1.0 / len);
     /* Opposite directions cancelled (a texture error) or a zero texel: use the nearest alone. */
-    vec2 d = v2(2.0 * t->pixels[3 * centre] - 1.0, 2.0 * t->pixels[3 * centre + 1] - 1.0);
+    vec2 d = texel_direction(t, centre);
     len = v2_length(d);
     return len > 1e-6 ? v2_scale(d, 1.0 / len) : v2(0.0, 1.0);
 }

@@ -1,21 +1,12 @@
-/* The feather texture: one 3-channel image that the generator writes and the
- * renderer reads (a fixed contract):
- *   ch0 = (cos a + 1) / 2, ch1 = (sin a + 1) / 2, ch2 = region
- * where (cos a, sin a) is the barb direction in UV space (pointing away from
- * the rachis) and region is 0 background, 0.5 rachis, 1 vane. Texel (0, 0) is
- * the image's top-left corner and sits at uv = (0, 1): u runs left to right,
- * v from the bottom row (v = 0, the feather's base) to the top row. */
+/* The feather texture as the renderer reads it: the image the generator
+ * writes (its encoding is common/feather_texture_contract.h), with the
+ * regions decoded once. */
 #ifndef PLUMAGE_RENDER_FEATHER_TEXTURE_H
 #define PLUMAGE_RENDER_FEATHER_TEXTURE_H
 
 #include "common/error.h"
+#include "common/feather_texture_contract.h"
 #include "common/vec.h"
-
-typedef enum plm_region {
-    PLM_REGION_BACKGROUND = 0, /* not part of the feather: rays pass as if nothing were there */
-    PLM_REGION_RACHIS = 1,     /* the shaft: a diffuse surface */
-    PLM_REGION_VANE = 2        /* barbs and barbules: the feather BSDF */
-} plm_region;
 
 typedef struct plm_feather_texture {
     int width, height;

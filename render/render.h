@@ -1,6 +1,6 @@
 /* plumage's renderer: a scene in, a film of mean radiance out.
  *
- *   plm_scene scene;  plm_scene_load("scene.json", &scene, &err);
+ *   plm_scene scene;  plm_scene_load("scene.json", &scene, &err);   // scene/scene_file.h
  *   plm_render_options opt = {0};            // zero = the scene's settings, all cores
  *   plm_film film;    plm_render(&scene, &opt, &film, &err);
  *   plm_film_write(&film, "out.exr", "out.png", scene.film.exposure, &err);

@@ -1,6 +1,7 @@
 /* A scene as plain data: camera, film, lights, meshes, materials and
- * instances. Read from JSON with plm_scene_load (docs/scene-format.md
- * documents every field and default) or built in code with the
+ * instances: all the renderer needs, nothing about where it came from. Scene
+ * files are read into it by scene/scene_file.h (docs/scene-format.md
+ * documents every field and default); code builds it with the
  * plm_scene_add_* functions. The scene owns everything it points to. */
 #ifndef PLUMAGE_RENDER_SCENE_H
 #define PLUMAGE_RENDER_SCENE_H
@@ -98,14 +99,6 @@ typedef struct plm_scene {
 void plm_scene_init(plm_scene *scene);
 void plm_scene_free(plm_scene *scene);
 
-/* Reads a scene file (and the files it includes). On failure the scene is
- * freed and err names the file, the field path and the allowed values. */
-plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err);
-/* The same, with "path.to.field=value" assignments (common/json_set.h)
- * applied to the top file's JSON before it is read. */
-plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
-                               plm_error *err);
-
 /* Builders; each returns the new element's index, or -1 when out of memory.
  * add_mesh takes ownership of mesh's arrays; add_material of the texture
  * and feather parameters. */
@@ -115,13 +108,6 @@ int plm_scene_add_light(plm_scene *scene, const plm_light *light);
 int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance);
 int plm_scene_find_mesh(const plm_scene *scene, const char *name);
 int plm_scene_find_material(const plm_scene *scene, const char *name);
-
-/* Generates a feather from a species preset in memory (generate/, texture/)
- * and adds meshes NAME.vane and NAME.rachis, the feather material NAME (the
- * species' "optics" block, the generated texture) and the diffuse material
- * NAME.rachis in the rachis colour. level 1..6, texture_size >= 16. */
-plm_result plm_scene_add_species_feather(plm_scene *scene, const char *name, const char *species_file, int level,
-                                         int texture_size, plm_error *err);
 
 /* Built-in shapes. A quad of size (w, h) in the xy plane centred at the origin,
  * normal +z, u along +x and v along +y; `curl` bends it into a cylinder about

@@ -17,6 +17,7 @@
 #include "common/image_io.h"
 #include "render/feather_bsdf.h"
 #include "render/scene.h"
+#include "scene/scene_file.h"
 
 static char dir[256];
 
@@ -240,6 +241,69 @@ static void errors_name_file_field_and_allowed_values(void **state)
     expect_error("{\"include\": \"cycle.json\"}", (const char *const[]){"cycle", "nested", NULL});
 }
 
+/* A scene from a buffer reads like the same text from a file; text after
+ * the value is refused, and the buffer need not end in a NUL. */
+static void buffer_reads_like_a_file(void **state)
+{
+    (void)state;
+    const char *text = "{\"film\": {\"width\": 33, \"height\": 17},"
+                       " \"meshes\": {\"q\": {\"shape\": \"quad\"}}, \"materials\": {\"d\": {}},"
+                       " \"objects\": [{\"mesh\": \"q\", \"material\": \"d\"}]}  ";
+    write_file("buffer.json", text);
+    plm_scene a, b;
+    plm_error err = {{0}};
+    assert_int_equal(load("buffer.json", &a, &err), PLM_OK);
+    char *copy = malloc(strlen(text));
+    memcpy(copy, text, strlen(text)); /* no terminating NUL */
+    assert_int_equal(plm_scene_load_buffer(copy, strlen(text), "mem", &b, &err), PLM_OK);
+    assert_int_equal(a.film.width, b.film.width);
+    assert_int_equal(a.film.height, 17);
+    assert_int_equal(a.instance_count, b.instance_count);
+    assert_int_equal(a.mesh_count, b.mesh_count);
+    assert_int_equal(a.meshes[0].mesh.triangle_count, b.meshes[0].mesh.triangle_count);
+    plm_scene_free(&a);
+    plm_scene_free(&b);
+    free(copy);
+    const char *garbage = "{\"film\": {}} x";
+    assert_int_not_equal(plm_scene_load_buffer(garbage, strlen(garbage), "mem", &b, &err), PLM_OK);
+    assert_non_null(strstr(err.message, "mem:1:"));
+    assert_int_not_equal(plm_scene_load_buffer(garbage, 5, "cut", &b, &err), PLM_OK);
+    assert_non_null(strstr(err.message, "cut"));
+}
+
+/* Feathers of one species, level, texture size and variant are generated
+ * once, however many names ask for them; another variant is another feather. */
+static void species_feathers_are_generated_once(void **state)
+{
+    (void)state;
+    char text[2048];
+    snprintf(text, sizeof text,
+             "{\"feathers\": {"
+             "\"a\": {\"species\": \"%s/presets/species/covert_parrot.json\", \"level\": 1, \"texture_size\": 32},"
+             "\"b\": {\"species\": \"%s/presets/species/covert_parrot.json\", \"level\": 1, \"texture_size\": 32},"
+             "\"c\": {\"species\": \"%s/presets/species/covert_parrot.json\", \"level\": 1, \"texture_size\": 32,"
+             " \"variant\": 3}},"
+             " \"objects\": [{\"feather\": \"a\"}, {\"feather\": \"b\"}, {\"feather\": \"c\"}]}",
+             PLUMAGE_SOURCE_DIR, PLUMAGE_SOURCE_DIR, PLUMAGE_SOURCE_DIR);
+    plm_scene s;
+    plm_error err = {{0}};
+    assert_int_equal(plm_scene_load_buffer(text, strlen(text), "mem", &s, &err), PLM_OK);
+    assert_int_equal(s.mesh_count, 4);     /* vane and rachis of a (= b) and of c */
+    assert_int_equal(s.material_count, 4); /* feather and rachis materials of each */
+    assert_int_equal(s.instance_count, 6);
+    assert_int_equal(s.instances[0].mesh, s.instances[2].mesh);
+    assert_int_equal(s.instances[1].material, s.instances[3].material);
+    assert_int_not_equal(s.instances[0].mesh, s.instances[4].mesh);
+    assert_int_equal(plm_scene_find_mesh(&s, "a.vane"), s.instances[0].mesh);
+    assert_int_equal(s.materials[s.instances[0].material].type, PLM_MATERIAL_FEATHER);
+    plm_scene_free(&s);
+    /* A species file's errors name the scene field that named it. */
+    snprintf(text, sizeof text, "{\"feathers\": {\"x\": {\"species\": \"%s/no_such_species.json\"}}}", dir);
+    assert_int_not_equal(plm_scene_load_buffer(text, strlen(text), "mem", &s, &err), PLM_OK);
+    assert_non_null(strstr(err.message, "feathers.x.species"));
+    assert_non_null(strstr(err.message, "no_such_species.json"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -247,6 +311,8 @@ int main(void)
         cmocka_unit_test(includes_resolve_relative_paths),
         cmocka_unit_test(feather_material_fields),
         cmocka_unit_test(errors_name_file_field_and_allowed_values),
+        cmocka_unit_test(buffer_reads_like_a_file),
+        cmocka_unit_test(species_feathers_are_generated_once),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -103,7 +103,7 @@ static cJSON *vec3_json(vec3 v)
 /* A scene for `plumage render`: the two meshes, a feather material on the
  * vane, a diffuse rachis, a camera looking at the dorsal side from +z and
  * framing the whole feather, and a sky with a sun. */
-static cJSON *scene_json(const plm_feather *f, const plm_species *species, const char *texture_file)
+static cJSON *scene_json(const plm_feather *f, const cJSON *optics, const char *texture_file)
 {
     vec3 lo = v3(1e30, 1e30, 1e30), hi = v3(-1e30, -1e30, -1e30);
     mesh_bounds(&f->vane, &lo, &hi);
@@ -139,7 +139,7 @@ static cJSON *scene_json(const plm_feather *f, const plm_species *species, const
     cJSON *materials = cJSON_AddObjectToObject(root, "materials");
     /* The species' optics block belongs to the renderer: its fields go into
      * the feather material as they are. */
-    cJSON *feather = species->optics ? cJSON_Duplicate(species->optics, 1) : cJSON_CreateObject();
+    cJSON *feather = optics ? cJSON_Duplicate(optics, 1) : cJSON_CreateObject();
     cJSON_DeleteItemFromObjectCaseSensitive(feather, "type");
     cJSON_DeleteItemFromObjectCaseSensitive(feather, "texture");
     cJSON_AddStringToObject(feather, "type", "feather");
@@ -170,7 +170,7 @@ static plm_result write_text(const char *path, const char *text, plm_error *err)
     return plm_atomic_commit(&af, err);
 }
 
-plm_result plm_feather_write(const plm_feather *f, const plm_species *species, const char *dir,
+plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, const char *dir,
                              const plm_feather_files *files, plm_error *err)
 {
     plm_feather_files def = {0};
@@ -190,7 +190,7 @@ plm_result plm_feather_write(const plm_feather *f, const plm_species *species, c
         rc = plm_feather_write_textures(f, dir, files, err);
     if (rc != PLM_OK || !f->texture.pixels)
         return rc;
-    cJSON *scene = scene_json(f, species, files->no_exr ? "texture.png" : "texture.exr");
+    cJSON *scene = scene_json(f, optics, files->no_exr ? "texture.png" : "texture.exr");
     char *text = scene ? cJSON_Print(scene) : NULL;
     cJSON_Delete(scene);
     if (!text)

@@ -51,8 +51,10 @@ typedef struct plm_feather_files {
  * texture.png (the feather texture), pigment.exr and pigment.png (when
  * present), and feather.json (rendering it writes feather.exr/.png into the
  * working directory, hence the texture's other name),
- * a scene for `plumage render`. Each file is written atomically. */
-plm_result plm_feather_write(const plm_feather *f, const plm_species *species, const char *dir,
+ * a scene for `plumage render` whose feather material carries `optics` (a
+ * species' optics block, copied as it is; NULL: the renderer's defaults).
+ * Each file is written atomically. */
+plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, const char *dir,
                              const plm_feather_files *files, plm_error *err);
 
 /* Writes only the textures (the `plumage texture` command). */

@@ -4,8 +4,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/feather_texture_contract.h"
 #include "common/fileio.h"
 #include "common/rng.h"
+
+/* The generator's flat regions are the contract's region codes. */
+_Static_assert(PLM_FLAT_BACKGROUND == (int)PLM_REGION_BACKGROUND && PLM_FLAT_RACHIS == (int)PLM_REGION_RACHIS &&
+                   PLM_FLAT_VANE == (int)PLM_REGION_VANE,
+               "generate/outline.h regions must match common/feather_texture_contract.h");
 
 static double smoothstep(double e0, double e1, double x)
 {
@@ -32,14 +38,14 @@ typedef struct barb_cache {
 static void pigment_texel(const plm_outline *o, const plm_pigment *pg, const plm_flat_sample *s, int side,
                           barb_cache *cache, float *out)
 {
-    out[0] = out[1] = out[2] = 0.0f;
+    out[PLM_PIGMENT_BANDS] = out[PLM_PIGMENT_TIP] = out[PLM_PIGMENT_BARB] = 0.0f;
     if (s->region != PLM_FLAT_VANE)
         return;
     double t_origin = (s->barb_origin - o->vane_base) / o->vane_length;
     if (pg->band_count > 0)
-        out[0] = (float)band_value(t_origin * pg->band_count, pg->band_width);
+        out[PLM_PIGMENT_BANDS] = (float)band_value(t_origin * pg->band_count, pg->band_width);
     if (pg->tip_length > 0.0)
-        out[1] = (float)smoothstep(1.0 - pg->tip_length, 1.0, t_origin);
+        out[PLM_PIGMENT_TIP] = (float)smoothstep(1.0 - pg->tip_length, 1.0, t_origin);
     /* One value per barb: barbs are barb_density per cm along the rachis. */
     int64_t barb = (int64_t)floor((s->barb_origin - o->vane_base) * o->shape.barb_density / 10.0);
     if (barb != cache->barb || side != cache->side) {
@@ -48,7 +54,7 @@ static void pigment_texel(const plm_outline *o, const plm_pigment *pg, const plm
         cache->side = side;
         cache->value = (float)(pg->barb_jitter * (double)(h >> 11) * (1.0 / 9007199254740992.0));
     }
-    out[2] = cache->value;
+    out[PLM_PIGMENT_BARB] = cache->value;
 }
 
 static plm_result alloc_image(plm_image *img, int width, int height, plm_error *err)
@@ -99,9 +105,9 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
                                 j);
             }
             float *px = feather->pixels + 3 * ((size_t)j * width + i);
-            px[0] = (float)(0.5 * (d.x + 1.0));
-            px[1] = (float)(0.5 * (d.y + 1.0));
-            px[2] = (float)(0.5 * (double)s.region);
+            px[PLM_FTEX_COS] = plm_ftex_encode_component(d.x);
+            px[PLM_FTEX_SIN] = plm_ftex_encode_component(d.y);
+            px[PLM_FTEX_REGION] = plm_ftex_encode_region((plm_region)s.region);
             if (pigment)
                 pigment_texel(o, pg, &s, p.x >= 0.0, &cache, pigment->pixels + 3 * ((size_t)j * width + i));
         }
@@ -130,7 +136,7 @@ plm_result plm_texture_write(const char *path, const plm_image *img, plm_error *
 
 plm_flat_region plm_texture_region_of(float channel2)
 {
-    return channel2 < 0.25f ? PLM_FLAT_BACKGROUND : (channel2 < 0.75f ? PLM_FLAT_RACHIS : PLM_FLAT_VANE);
+    return (plm_flat_region)plm_ftex_decode_region(channel2);
 }
 
 void plm_texture_image_free(plm_image *img)

@@ -1,21 +1,11 @@
 /* Feather textures authored from the flat outline (generate/outline.h).
  *
- * The feather texture is ONE 3-channel image (the renderer's contract, see
- * render/feather_texture.h):
- *   ch0 = (cos a + 1) / 2, ch1 = (sin a + 1) / 2   barb direction (cos a, sin a) in uv space,
- *                                                  pointing away from the rachis, normalised in uv units
- *   ch2 = region: 0 background, 0.5 rachis, 1 vane
- * so the 3D barb tangent is normalize(cos a dP/du + sin a dP/dv). Texel
- * (0, 0) is the top-left corner at uv = (0, 1): u runs left to right, v from
- * the bottom row (the vane's base) to the top row (the tip). Every texel
- * carries a unit direction; outside the outline (never rendered) it is the
- * straight barb at the row's rachis angle.
- *
- * The optional pigment image has 3 channels in [0, 1]:
- *   ch0 = bands (1 inside a dark bar; bars follow the barbs),
- *   ch1 = tip weight (1 at the tip, falling to 0 over pigment.tip_length),
- *   ch2 = per-barb variation (a value per barb, scaled by pigment.barb_jitter);
- * all 0 outside the vane. */
+ * The feather texture and the optional pigment image follow the contract in
+ * common/feather_texture_contract.h (channels, region codes, texel layout).
+ * The barb direction is normalised in uv units, so the 3D barb tangent is
+ * normalize(cos a dP/du + sin a dP/dv). Every texel carries a unit
+ * direction; outside the outline (never rendered) it is the straight barb at
+ * the row's rachis angle. */
 #ifndef PLUMAGE_TEXTURE_TEXTURE_H
 #define PLUMAGE_TEXTURE_TEXTURE_H
 

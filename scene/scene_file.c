@@ -5,23 +5,31 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/json.h"
+#include "scene/scene_file.h"
+
 #include "common/json_set.h"
 #include "common/rng.h"
 #include "render/feather_bsdf.h"
-#include "render/scene.h"
+#include "scene/feathers.h"
 #include "texture/feather.h"
+#include "texture/texture.h"
 
 #define MAX_INCLUDE_DEPTH 8
 #define BIG 1e9 /* bound for coordinates and distances */
-#define FEATHER_NAME_MAX 100 /* leaves room for ".rachis" in a PLM_NAME_MAX name */
+
+/* A name in a scene's "feathers" block and what it places. */
+typedef struct named_feather {
+    char name[PLM_NAME_MAX];
+    plm_feather_parts parts;
+} named_feather;
 
 typedef struct loader {
     plm_scene *scene;
     plm_error *err;
     int camera_set, film_set; /* by a file nearer the top: includes do not override them */
-    const char *const *sets;  /* "path=value" overrides of the top file */
-    int n_sets;
+    plm_feather_cache cache;
+    named_feather *feathers;
+    int feather_count, feather_capacity;
 } loader;
 
 static plm_result load_file(loader *ld, const char *path, int depth);
@@ -340,10 +348,8 @@ static plm_result read_masking(const plm_json_reader *r, const cJSON *parent, co
     return rc;
 }
 
-/* A feather's optics: the feather material's fields other than type and
- * texture (also a species preset's "optics" block). */
-static plm_result read_feather_optics(const plm_json_reader *r, const cJSON *obj, const char *path,
-                                      const char *const *keys, plm_material *m)
+plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
+                                   const char *const *keys, plm_material *m)
 {
     plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
@@ -366,7 +372,7 @@ static plm_result read_feather_optics(const plm_json_reader *r, const cJSON *obj
 static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
     static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking", NULL};
-    plm_result rc = read_feather_optics(r, obj, path, keys, m);
+    plm_result rc = plm_feather_optics_read(r, obj, path, keys, m);
     char texture[PLM_PATH_MAX];
     if (rc == PLM_OK)
         rc = read_path(r, obj, path, "texture", 1, texture);
@@ -473,16 +479,20 @@ static rgb jitter_tint(rgb tint, double jitter, int seed, int index)
     return rgb_make(tint.r * (1.0 - jitter * a), tint.g * (1.0 - jitter * b), tint.b * (1.0 - jitter * c));
 }
 
+static const named_feather *find_feather(const loader *ld, const char *name)
+{
+    for (int i = 0; i < ld->feather_count; ++i)
+        if (strcmp(ld->feathers[i].name, name) == 0)
+            return &ld->feathers[i];
+    return NULL;
+}
+
 /* What an object places: a mesh with a material, or both parts of a
  * generated feather (its vane with the feather material, its rachis tube). */
-typedef struct object_parts {
-    int count;
-    int mesh[2], material[2];
-} object_parts;
-
-static plm_result read_parts(const plm_json_reader *r, const cJSON *obj, const char *path, const plm_scene *scene,
-                             object_parts *parts)
+static plm_result read_parts(const loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path,
+                             plm_feather_parts *parts)
 {
+    const plm_scene *scene = ld->scene;
     const char *feather = NULL, *mesh_name = NULL, *material_name = NULL;
     plm_result rc = plm_json_string(r, obj, path, "feather", NULL, &feather);
     if (rc == PLM_OK)
@@ -494,17 +504,11 @@ static plm_result read_parts(const plm_json_reader *r, const cJSON *obj, const c
     if (feather) {
         if (mesh_name || material_name)
             return plm_json_fail(r, path, "feather", "give either \"feather\" or \"mesh\" and \"material\"");
-        char name[2][PLM_NAME_MAX];
-        snprintf(name[0], sizeof name[0], "%.100s.vane", feather);
-        snprintf(name[1], sizeof name[1], "%.100s.rachis", feather);
-        parts->count = 2;
-        for (int k = 0; k < 2; ++k) {
-            parts->mesh[k] = plm_scene_find_mesh(scene, name[k]);
-            parts->material[k] = plm_scene_find_material(scene, k ? name[1] : feather);
-        }
-        return parts->mesh[0] < 0 || parts->mesh[1] < 0 || parts->material[0] < 0 || parts->material[1] < 0
-                   ? plm_json_fail(r, path, "feather", "\"%s\" is not defined in \"feathers\"", feather)
-                   : PLM_OK;
+        const named_feather *f = find_feather(ld, feather);
+        if (!f)
+            return plm_json_fail(r, path, "feather", "\"%s\" is not defined in \"feathers\"", feather);
+        *parts = f->parts;
+        return PLM_OK;
     }
     parts->count = 1;
     parts->mesh[0] = mesh_name ? plm_scene_find_mesh(scene, mesh_name) : -1;
@@ -515,7 +519,7 @@ static plm_result read_parts(const plm_json_reader *r, const cJSON *obj, const c
     return rc;
 }
 
-static plm_result add_parts(const plm_json_reader *r, plm_scene *scene, const object_parts *parts,
+static plm_result add_parts(const plm_json_reader *r, plm_scene *scene, const plm_feather_parts *parts,
                             const plm_xform *xform, rgb tint)
 {
     for (int k = 0; k < parts->count; ++k) {
@@ -526,17 +530,18 @@ static plm_result add_parts(const plm_json_reader *r, plm_scene *scene, const ob
     return PLM_OK;
 }
 
-static plm_result read_object(const plm_json_reader *r, const cJSON *obj, const char *path, plm_scene *scene)
+static plm_result read_object(const loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path)
 {
+    plm_scene *scene = ld->scene;
     static const char *const keys[] = {"mesh", "material", "feather", "transform", "tint", "instances",
                                        "tint_jitter", "seed", NULL};
     static const char *const instance_keys[] = {"transform", "tint", NULL};
-    object_parts parts = {0};
+    plm_feather_parts parts = {0};
     plm_xform xform;
     rgb tint;
     plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
-        rc = read_parts(r, obj, path, scene, &parts);
+        rc = read_parts(ld, r, obj, path, &parts);
     if (rc == PLM_OK)
         rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(obj, "transform"), path, &xform);
     double jitter = 0.0;
@@ -632,86 +637,62 @@ static plm_result read_materials(const plm_json_reader *r, const cJSON *obj, plm
     return PLM_OK;
 }
 
-plm_result plm_scene_add_species_feather(plm_scene *scene, const char *name, const char *species_file, int level,
-                                         int texture_size, plm_error *err)
+static plm_result add_named_feather(loader *ld, const char *name, const plm_feather_parts *parts)
 {
-    static const char *const optics_keys[] = {"rachis_reflectance", "barb", "barbule", "masking", NULL};
-    char vane_name[PLM_NAME_MAX], rachis_name[PLM_NAME_MAX];
-    if (strlen(name) > FEATHER_NAME_MAX)
-        return plm_fail(err, PLM_ERR_INVALID, "feather name \"%.40s...\": names are limited to %d characters", name,
-                        FEATHER_NAME_MAX);
-    snprintf(vane_name, sizeof vane_name, "%.100s.vane", name);
-    snprintf(rachis_name, sizeof rachis_name, "%.100s.rachis", name);
-    if (plm_scene_find_mesh(scene, vane_name) >= 0 || plm_scene_find_material(scene, name) >= 0)
-        return plm_fail(err, PLM_ERR_INVALID, "feather \"%s\" is already defined (names must be unique)", name);
-    plm_species species;
-    plm_result rc = plm_species_load(species_file, &species, err);
-    if (rc != PLM_OK)
-        return rc;
-    plm_material feather, rachis;
-    memset(&feather, 0, sizeof feather);
-    memset(&rachis, 0, sizeof rachis);
-    snprintf(feather.name, sizeof feather.name, "%.100s", name);
-    snprintf(rachis.name, sizeof rachis.name, "%.100s.rachis", name);
-    plm_json_reader optics_reader = {species_file, err};
-    static const cJSON empty = {0};
-    rc = read_feather_optics(&optics_reader, species.optics ? species.optics : &empty, "optics", optics_keys,
-                             &feather);
-    plm_feather f;
-    memset(&f, 0, sizeof f);
-    plm_feather_options options = {level, texture_size, texture_size, 0, 0, 1};
-    if (rc == PLM_OK)
-        rc = plm_feather_generate(&species, &options, &f, err);
-    if (rc == PLM_OK) {
-        rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
-                                             err);
-        f.texture.pixels = NULL; /* owned by the material now */
+    if (ld->feather_count == ld->feather_capacity) {
+        int cap = ld->feather_capacity ? 2 * ld->feather_capacity : 8;
+        named_feather *f = realloc(ld->feathers, (size_t)cap * sizeof *f);
+        if (!f)
+            return plm_fail(ld->err, PLM_ERR_NO_MEMORY, "out of memory");
+        ld->feathers = f;
+        ld->feather_capacity = cap;
     }
-    rachis.reflectance = feather.reflectance;
-    if (rc == PLM_OK && (plm_scene_add_mesh(scene, vane_name, &f.vane) < 0 ||
-                         plm_scene_add_mesh(scene, rachis_name, &f.rachis) < 0 ||
-                         plm_scene_add_material(scene, &rachis) < 0 || plm_scene_add_material(scene, &feather) < 0))
-        rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
-    else if (rc != PLM_OK) {
-        plm_feather_texture_free(&feather.texture);
-        free(feather.feather);
-    }
-    plm_feather_free(&f);
-    plm_species_free(&species);
-    return rc;
+    named_feather *f = &ld->feathers[ld->feather_count++];
+    snprintf(f->name, sizeof f->name, "%s", name);
+    f->parts = *parts;
+    return PLM_OK;
 }
 
-static plm_result generate_feather(const plm_json_reader *r, const cJSON *obj, const char *path, const char *name,
-                                   plm_scene *scene)
+/* {"species": file, "level", "texture_size", "variant"}: generated once per
+ * distinct (species, level, texture size, variant), however many names ask. */
+static plm_result read_species_feather(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path,
+                               const char *name)
 {
-    static const char *const keys[] = {"species", "level", "texture_size", NULL};
+    static const char *const keys[] = {"species", "level", "texture_size", "variant", NULL};
     char species_file[PLM_PATH_MAX];
-    int level = PLM_FEATHER_DEFAULT_LEVEL, size = 1024;
+    plm_feather_request q = {species_file, PLM_FEATHER_DEFAULT_LEVEL, PLM_TEXTURE_DEFAULT_SIZE, 0};
+    int variant = 0;
     plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
         rc = read_path(r, obj, path, "species", 1, species_file);
     if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, path, "level", level, 1, 6, &level);
+        rc = plm_json_int(r, obj, path, "level", q.level, 1, 6, &q.level);
     if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, path, "texture_size", size, 16, 8192, &size);
+        rc = plm_json_int(r, obj, path, "texture_size", q.texture_size, 16, 8192, &q.texture_size);
+    if (rc == PLM_OK)
+        rc = plm_json_int(r, obj, path, "variant", 0, 0, 2147483647, &variant);
     if (rc != PLM_OK)
         return rc;
+    q.variant = (uint64_t)variant;
+    plm_feather_parts parts;
     /* Whatever fails (reading, optics, generation) comes from the species named here. */
-    if ((rc = plm_scene_add_species_feather(scene, name, species_file, level, size, r->err)) != PLM_OK)
+    if ((rc = plm_feather_cache_get(&ld->cache, ld->scene, name, &q, &parts, r->err)) != PLM_OK) {
         plm_error_prefix(r->err, "%s: %s.species: ", r->file, path);
-    return rc;
+        return rc;
+    }
+    return add_named_feather(ld, name, &parts);
 }
 
-static plm_result read_feathers(const plm_json_reader *r, const cJSON *obj, plm_scene *scene)
+static plm_result read_feathers(loader *ld, const plm_json_reader *r, const cJSON *obj)
 {
     if (!cJSON_IsObject(obj))
         return plm_json_fail(r, "feathers", NULL, "expected an object of name: {\"species\": file}");
     for (const cJSON *e = obj->child; e; e = e->next) {
         char path[256];
         snprintf(path, sizeof path, "feathers.%s", e->string);
-        plm_result rc = check_new_name(r, "feathers", e->string, -1);
+        plm_result rc = check_new_name(r, "feathers", e->string, find_feather(ld, e->string) ? 0 : -1);
         if (rc == PLM_OK)
-            rc = generate_feather(r, e, path, e->string, scene);
+            rc = read_species_feather(ld, r, e, path, e->string);
         if (rc != PLM_OK)
             return rc;
     }
@@ -781,7 +762,7 @@ static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *
         rc = read_materials(r, materials, scene);
     const cJSON *feathers = cJSON_GetObjectItemCaseSensitive(root, "feathers");
     if (rc == PLM_OK && feathers)
-        rc = read_feathers(r, feathers, scene);
+        rc = read_feathers(ld, r, feathers);
     const cJSON *objects = cJSON_GetObjectItemCaseSensitive(root, "objects");
     if (rc == PLM_OK && objects && !cJSON_IsArray(objects))
         rc = plm_json_fail(r, "objects", NULL, "expected an array of objects");
@@ -789,7 +770,7 @@ static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *
     for (const cJSON *e = objects ? objects->child : NULL; rc == PLM_OK && e; e = e->next, ++i) {
         char path[64];
         snprintf(path, sizeof path, "objects[%d]", i);
-        rc = read_object(r, e, path, scene);
+        rc = read_object(ld, r, e, path);
     }
     return rc;
 }
@@ -803,12 +784,55 @@ static plm_result load_file(loader *ld, const char *path, int depth)
     plm_result rc = plm_json_load(path, &root, ld->err);
     if (rc != PLM_OK)
         return rc;
-    for (int i = 0; rc == PLM_OK && depth == 0 && i < ld->n_sets; ++i)
-        if ((rc = plm_json_set_assignment(root, ld->sets[i], ld->err)) != PLM_OK)
-            plm_error_prefix(ld->err, "%s: --set ", path);
     plm_json_reader r = {path, ld->err};
+    rc = read_scene(ld, &r, root, depth);
+    cJSON_Delete(root);
+    return rc;
+}
+
+/* Reads the top-level tree with a fresh loader; the scene is freed on failure. */
+static plm_result load_root(const cJSON *root, const char *name, plm_scene *scene, plm_error *err)
+{
+    loader ld = {scene, err, 0, 0, {0}, NULL, 0, 0};
+    plm_json_reader r = {name, err};
+    plm_result rc = read_scene(&ld, &r, root, 0);
+    plm_feather_cache_free(&ld.cache);
+    free(ld.feathers);
+    if (rc != PLM_OK)
+        plm_scene_free(scene);
+    return rc;
+}
+
+plm_result plm_scene_load_json(const cJSON *root, const char *name, plm_scene *scene, plm_error *err)
+{
+    plm_scene_init(scene);
+    return load_root(root, name, scene, err);
+}
+
+plm_result plm_scene_load_buffer(const char *text, size_t length, const char *name, plm_scene *scene,
+                                 plm_error *err)
+{
+    plm_scene_init(scene);
+    cJSON *root;
+    plm_result rc = plm_json_parse(text, length, name, &root, err);
+    if (rc != PLM_OK)
+        return rc;
+    rc = load_root(root, name, scene, err);
+    cJSON_Delete(root);
+    return rc;
+}
+
+plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
+                               plm_error *err)
+{
+    plm_scene_init(scene);
+    cJSON *root;
+    plm_result rc = plm_json_load(path, &root, err);
+    for (int i = 0; rc == PLM_OK && i < n_sets; ++i)
+        if ((rc = plm_json_set_assignment(root, sets[i], err)) != PLM_OK)
+            plm_error_prefix(err, "%s: --set ", path);
     if (rc == PLM_OK)
-        rc = read_scene(ld, &r, root, depth);
+        rc = load_root(root, path, scene, err);
     cJSON_Delete(root);
     return rc;
 }
@@ -816,15 +840,4 @@ static plm_result load_file(loader *ld, const char *path, int depth)
 plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err)
 {
     return plm_scene_load_with(path, NULL, 0, scene, err);
-}
-
-plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
-                               plm_error *err)
-{
-    plm_scene_init(scene);
-    loader ld = {scene, err, 0, 0, sets, n_sets};
-    plm_result rc = load_file(&ld, path, 0);
-    if (rc != PLM_OK)
-        plm_scene_free(scene);
-    return rc;
 }

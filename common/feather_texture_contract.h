@@ -1,0 +1,50 @@
+/* The feather-texture contract: the one place that says how a feather
+ * texture (and its pigment image) encodes what the generator knows. texture/
+ * writes it, render/ reads it; neither knows the other.
+ *
+ * Feather texture, 3 float channels, top row first:
+ *   PLM_FTEX_COS, PLM_FTEX_SIN  (cos a + 1) / 2 and (sin a + 1) / 2, where
+ *                               (cos a, sin a) is the unit barb direction in
+ *                               uv units, pointing away from the rachis
+ *   PLM_FTEX_REGION             region code / 2: 0 background, 0.5 rachis, 1 vane
+ *                               (decoded with thresholds halfway between codes)
+ * Texel (0, 0) is the top-left corner and sits at uv = (0, 1): u runs left to
+ * right, v from the bottom row (the feather's base, v = 0) to the top row.
+ *
+ * Pigment image, 3 float channels in [0, 1], 0 outside the vane:
+ *   PLM_PIGMENT_BANDS  1 inside a dark bar (bars follow the barbs)
+ *   PLM_PIGMENT_TIP    1 at the tip, falling to 0 over the species' tip length
+ *   PLM_PIGMENT_BARB   a value per barb, at most the species' barb jitter
+ * Same texel layout as the feather texture. */
+#ifndef PLUMAGE_COMMON_FEATHER_TEXTURE_CONTRACT_H
+#define PLUMAGE_COMMON_FEATHER_TEXTURE_CONTRACT_H
+
+#define PLM_FTEX_CHANNELS 3
+#define PLM_FTEX_COS 0
+#define PLM_FTEX_SIN 1
+#define PLM_FTEX_REGION 2
+
+#define PLM_PIGMENT_CHANNELS 3
+#define PLM_PIGMENT_BANDS 0
+#define PLM_PIGMENT_TIP 1
+#define PLM_PIGMENT_BARB 2
+
+typedef enum plm_region {
+    PLM_REGION_BACKGROUND = 0, /* not part of the feather: rays pass as if nothing were there */
+    PLM_REGION_RACHIS = 1,     /* the shaft: a diffuse surface */
+    PLM_REGION_VANE = 2        /* barbs and barbules: the feather BSDF */
+} plm_region;
+
+static inline float plm_ftex_encode_region(plm_region r) { return 0.5f * (float)r; }
+
+/* Halfway between the codes, so filtering or 16-bit rounding never changes a region. */
+static inline plm_region plm_ftex_decode_region(float value)
+{
+    return value < 0.25f ? PLM_REGION_BACKGROUND : (value < 0.75f ? PLM_REGION_RACHIS : PLM_REGION_VANE);
+}
+
+/* A direction component in [-1, 1] to a channel value in [0, 1], and back. */
+static inline float plm_ftex_encode_component(double c) { return (float)(0.5 * (c + 1.0)); }
+static inline double plm_ftex_decode_component(float v) { return 2.0 * (double)v - 1.0; }
+
+#endif

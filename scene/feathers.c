@@ -1,0 +1,165 @@
+#include "scene/feathers.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/json.h"
+#include "common/rng.h"
+#include "render/feather_bsdf.h"
+#include "scene/scene_file.h"
+#include "texture/feather.h"
+#include "texture/texture.h"
+
+#define FEATHER_NAME_MAX 100 /* leaves room for ".rachis" in a PLM_NAME_MAX name */
+
+struct plm_feather_cache_entry {
+    char species[PLM_PATH_MAX];
+    int level, texture_size;
+    uint64_t variant;
+    plm_feather_parts parts;
+};
+
+static void normalise(plm_feather_request *q)
+{
+    if (q->level <= 0)
+        q->level = PLM_FEATHER_DEFAULT_LEVEL;
+    if (q->texture_size <= 0)
+        q->texture_size = PLM_TEXTURE_DEFAULT_SIZE;
+}
+
+static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm_feather_request *q)
+{
+    for (int i = 0; i < c->count; ++i) {
+        const plm_feather_cache_entry *e = &c->entries[i];
+        if (e->level == q->level && e->texture_size == q->texture_size && e->variant == q->variant &&
+            strcmp(e->species, q->species) == 0)
+            return e;
+    }
+    return NULL;
+}
+
+/* The species file parsed twice over: its shape and pigment by generate/,
+ * its optics block (which generate/ does not keep) into the feather material. */
+static plm_result read_species(const char *file, plm_species *species, plm_material *feather, plm_error *err)
+{
+    static const char *const optics_keys[] = {"rachis_reflectance", "barb", "barbule", "masking", NULL};
+    cJSON *root = NULL;
+    plm_result rc = plm_json_load(file, &root, err);
+    if (rc != PLM_OK)
+        return rc;
+    rc = plm_species_parse(root, file, species, err);
+    if (rc == PLM_OK) {
+        static const cJSON empty = {0};
+        const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
+        plm_json_reader r = {file, err};
+        if ((rc = plm_feather_optics_read(&r, optics ? optics : &empty, "optics", optics_keys, feather)) != PLM_OK)
+            plm_species_free(species);
+    }
+    cJSON_Delete(root);
+    return rc;
+}
+
+static double extent_y(const plm_mesh *m)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (int v = 0; v < m->vertex_count; ++v)
+        lo = fmin(lo, m->positions[3 * v + 1]), hi = fmax(hi, m->positions[3 * v + 1]);
+    return hi > lo ? hi - lo : 0.0;
+}
+
+/* Generates the feather and adds its two meshes and two materials. */
+static plm_result generate(plm_scene *scene, const char *name, const plm_feather_request *q, plm_feather_parts *out,
+                           plm_error *err)
+{
+    char vane_name[PLM_NAME_MAX], rachis_name[PLM_NAME_MAX];
+    if (strlen(name) > FEATHER_NAME_MAX)
+        return plm_fail(err, PLM_ERR_INVALID, "feather name \"%.40s...\": names are limited to %d characters", name,
+                        FEATHER_NAME_MAX);
+    snprintf(vane_name, sizeof vane_name, "%.100s.vane", name);
+    snprintf(rachis_name, sizeof rachis_name, "%.100s.rachis", name);
+    if (plm_scene_find_mesh(scene, vane_name) >= 0 || plm_scene_find_material(scene, name) >= 0)
+        return plm_fail(err, PLM_ERR_INVALID, "feather \"%s\" is already defined (names must be unique)", name);
+    plm_species species;
+    plm_material feather, rachis;
+    memset(&feather, 0, sizeof feather);
+    memset(&rachis, 0, sizeof rachis);
+    plm_result rc = read_species(q->species, &species, &feather, err);
+    if (rc != PLM_OK)
+        return rc;
+    /* A variant is another individual of the species: its own random choices. */
+    if (q->variant)
+        species.pigment.seed = plm_hash64(species.pigment.seed, q->variant, 0xfea7);
+    snprintf(feather.name, sizeof feather.name, "%.100s", name);
+    snprintf(rachis.name, sizeof rachis.name, "%.100s.rachis", name);
+    rachis.reflectance = feather.reflectance;
+    plm_feather f;
+    memset(&f, 0, sizeof f);
+    plm_feather_options options = {q->level, q->texture_size, q->texture_size, 0, 0, 1};
+    rc = plm_feather_generate(&species, &options, &f, err);
+    if (rc == PLM_OK) {
+        rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
+                                             err);
+        f.texture.pixels = NULL; /* owned by the material now */
+    }
+    /* The scene takes each part as it is added (meshes are zeroed in f); the
+     * feather material goes last so that it is ours to free until then. */
+    int taken = 0;
+    if (rc == PLM_OK) {
+        out->count = 2;
+        out->length = extent_y(&f.vane);
+        taken = (out->mesh[0] = plm_scene_add_mesh(scene, vane_name, &f.vane)) >= 0 &&
+                (out->mesh[1] = plm_scene_add_mesh(scene, rachis_name, &f.rachis)) >= 0 &&
+                (out->material[1] = plm_scene_add_material(scene, &rachis)) >= 0 &&
+                (out->material[0] = plm_scene_add_material(scene, &feather)) >= 0;
+        if (!taken)
+            rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    if (!taken) {
+        plm_feather_texture_free(&feather.texture);
+        free(feather.feather);
+    }
+    plm_feather_free(&f);
+    plm_species_free(&species);
+    return rc;
+}
+
+plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, const char *name,
+                                 const plm_feather_request *request, plm_feather_parts *out, plm_error *err)
+{
+    plm_feather_request q = *request;
+    normalise(&q);
+    if (strlen(q.species) >= PLM_PATH_MAX)
+        return plm_fail(err, PLM_ERR_INVALID, "species path is longer than %d characters", PLM_PATH_MAX - 1);
+    const plm_feather_cache_entry *hit = find(cache, &q);
+    if (hit) {
+        *out = hit->parts;
+        return PLM_OK;
+    }
+    if (cache->count == cache->capacity) {
+        int cap = cache->capacity ? 2 * cache->capacity : 8;
+        plm_feather_cache_entry *e = realloc(cache->entries, (size_t)cap * sizeof *e);
+        if (!e)
+            return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+        cache->entries = e;
+        cache->capacity = cap;
+    }
+    memset(out, 0, sizeof *out);
+    plm_result rc = generate(scene, name, &q, out, err);
+    if (rc != PLM_OK)
+        return rc;
+    plm_feather_cache_entry *e = &cache->entries[cache->count++];
+    snprintf(e->species, sizeof e->species, "%s", q.species);
+    e->level = q.level;
+    e->texture_size = q.texture_size;
+    e->variant = q.variant;
+    e->parts = *out;
+    return PLM_OK;
+}
+
+void plm_feather_cache_free(plm_feather_cache *cache)
+{
+    free(cache->entries);
+    memset(cache, 0, sizeof *cache);
+}

@@ -1,0 +1,47 @@
+/* Feathers generated from species presets for a scene, each distinct one
+ * once. A request names a species file, the subdivision level, the texture
+ * size and a variant (a seed: different variants are different feathers of
+ * the same species); the cache adds the feather's meshes and materials to the
+ * scene the first time and hands back the same indices every later time, so
+ * a scene's memory grows with the number of distinct feathers, not with the
+ * number of instances. */
+#ifndef PLUMAGE_SCENE_FEATHERS_H
+#define PLUMAGE_SCENE_FEATHERS_H
+
+#include <stdint.h>
+
+#include "common/error.h"
+#include "render/scene.h"
+
+/* What placing one feather adds: the vane with the feather material and the
+ * rachis tube with a diffuse material in the rachis colour. */
+typedef struct plm_feather_parts {
+    int count; /* 2 for a generated feather; 1 for a plain mesh */
+    int mesh[2], material[2];
+    double length; /* the feather's extent along its rachis (+y), mm */
+} plm_feather_parts;
+
+typedef struct plm_feather_request {
+    const char *species; /* a species preset file */
+    int level;           /* subdivision level 1..6; 0 = the default */
+    int texture_size;    /* 16..8192; 0 = 1024 */
+    uint64_t variant;    /* 0 = the species as written; else a seed for its random choices */
+} plm_feather_request;
+
+typedef struct plm_feather_cache_entry plm_feather_cache_entry;
+
+typedef struct plm_feather_cache {
+    plm_feather_cache_entry *entries;
+    int count, capacity;
+} plm_feather_cache;
+
+/* The parts of the requested feather, generated into scene on the first
+ * request. `name` names the new meshes and materials (NAME.vane,
+ * NAME.rachis, NAME, NAME.rachis; at most 100 characters) and is unused on a
+ * cache hit. Errors from the species name its file. */
+plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, const char *name,
+                                 const plm_feather_request *request, plm_feather_parts *out, plm_error *err);
+
+void plm_feather_cache_free(plm_feather_cache *cache);
+
+#endif

@@ -1,0 +1,40 @@
+/* Scene files: JSON read and validated field by field into a plain
+ * plm_scene (render/scene.h) that the renderer takes as it is. Species named
+ * in a scene become generated feathers (scene/feathers.h); docs/scene-format.md
+ * documents every field, its range and default.
+ *
+ * Three entry points read the same format: a file, a text buffer (for
+ * fuzzing, or a scene built in memory) and an already parsed JSON tree (for
+ * overrides applied before loading). `name` is shown in error messages and
+ * relative paths inside the scene resolve against its directory (a name
+ * without '/' resolves them against the working directory). On failure the
+ * scene is freed and err names the file, the field path and the allowed
+ * values. */
+#ifndef PLUMAGE_SCENE_SCENE_FILE_H
+#define PLUMAGE_SCENE_SCENE_FILE_H
+
+#include <stddef.h>
+
+#include <cjson/cJSON.h>
+
+#include "common/error.h"
+#include "common/json.h"
+#include "render/scene.h"
+
+plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err);
+/* The same, with "path.to.field=value" assignments (common/json_set.h)
+ * applied to the top file's JSON before it is read. */
+plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
+                               plm_error *err);
+plm_result plm_scene_load_buffer(const char *text, size_t length, const char *name, plm_scene *scene,
+                                 plm_error *err);
+plm_result plm_scene_load_json(const cJSON *root, const char *name, plm_scene *scene, plm_error *err);
+
+/* A feather material's optics (its fields other than type and texture; also
+ * a species' "optics" block) into m: type feather, parameters allocated.
+ * keys lists the fields obj may have. Absent fields take the documented
+ * defaults, so an empty or absent block is a valid default feather. */
+plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
+                                   const char *const *keys, plm_material *m);
+
+#endif
