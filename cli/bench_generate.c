@@ -63,9 +63,9 @@ int bench_generate(int argc, char **argv)
     };
     const plm_command_help help = {
         "plumage bench generate [options]",
-        "Times plm_feather_generate in memory (no files): meshes at the default subdivision level plus the "
-        "feather and pigment textures, single thread; also without the pigment image, meshes alone and textures "
-        "alone. Prints median wall and thread-CPU milliseconds and the process's peak resident memory."};
+        "Times plm_feather_generate in memory (no files): meshes at the default subdivision level plus the\n"
+        "feather and pigment textures, single thread; also without the pigment image, meshes alone and\n"
+        "textures alone. Prints median wall and thread-CPU milliseconds and the process's peak resident memory."};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;

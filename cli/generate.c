@@ -110,14 +110,14 @@ static int run(int argc, char **argv, int textures_only)
     const plm_command_help generate_help = {
         "plumage generate --species FILE -o DIR [options]\n       plumage generate --contact-sheet OUT.png "
         "SPECIES.json...",
-        "Builds a feather from a species preset: the vane and rachis meshes (PLY, OpenSubdiv limit surfaces), the "
-        "feather texture (barb direction and regions) and the pigment texture (EXR and 16-bit PNG), and "
-        "feather.json, a scene for 'plumage render'. docs/species.md documents every "
-        "species field."};
+        "Builds a feather from a species preset: the vane and rachis meshes (PLY, OpenSubdiv limit surfaces),\n"
+        "the feather texture (barb direction and regions) and the pigment texture (EXR and 16-bit PNG), and\n"
+        "feather.json, a scene for 'plumage render'. docs/species.md documents every species field,\n"
+        "docs/generating.md the files written."};
     const plm_command_help texture_help = {
         "plumage texture --species FILE -o DIR [--texture-size N] [--format F] [--no-pigment]",
-        "Writes texture.exr/.png (barb direction and regions) and pigment.exr/.png for a species, as 'plumage "
-        "generate' does, without the meshes or the scene."};
+        "Writes texture.exr/.png (barb direction and regions) and pigment.exr/.png for a species, as\n"
+        "'plumage generate' does, without the meshes or the scene."};
     const plm_command_help *help = textures_only ? &texture_help : &generate_help;
     const char *positional[64];
     int n_pos = 0, n_opts = (int)(sizeof opts / sizeof opts[0]);

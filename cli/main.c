@@ -24,7 +24,8 @@ static void usage(FILE *out)
     fprintf(out, "usage: plumage <command> [options]\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(out, "\n'plumage <command> --help' describes each command.\n");
+    fprintf(out, "\n'plumage <command> --help' describes each command; docs/README.md in the source\n"
+                 "tree documents them all.\n");
 }
 
 int main(int argc, char **argv)

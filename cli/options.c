@@ -50,7 +50,7 @@ static int parse_value(const plm_command_help *help, plm_option *o, const char *
     case PLM_OPT_INT: {
         double v;
         if (!parse_double(value, &v) || v != floor(v) || v < o->lo || v > o->hi) {
-            fprintf(stderr, "error: %s: '%s' must be a whole number in [%g, %g]\n", o->name, value, o->lo, o->hi);
+            fprintf(stderr, "error: %s: '%s' must be a whole number in [%.0f, %.0f]\n", o->name, value, o->lo, o->hi);
             return 0;
         }
         *(int *)o->target = (int)v;
@@ -181,7 +181,7 @@ int plm_read_numbers(FILE *in, const char *command, long *line_number, double *v
         while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
             ++p;
         if (got != n || *p != '\0') {
-            fprintf(stderr, "error: %s: stdin line %ld: expected exactly %d finite numbers\n", command,
+            fprintf(stderr, "error: %s: stdin line %ld: expected exactly %d finite numbers (--help shows the format)\n", command,
                     *line_number, n);
             return -1;
         }
@@ -195,6 +195,7 @@ static void print_table(FILE *out, const char *usage_line, const char *kind, con
     fprintf(out, "usage: %s\n\n%ss:\n", usage_line, kind);
     for (const plm_subcommand *c = table; c->name; ++c)
         fprintf(out, "  %-10s %s\n", c->name, c->summary);
+    fprintf(out, "\nEach %s has its own --help.\n", kind);
 }
 
 int plm_dispatch(const char *usage_line, const char *kind, const plm_subcommand *table, int argc, char **argv)
