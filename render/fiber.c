@@ -93,8 +93,10 @@ static double sample_gm(double Theta, double beta, double u)
     return plm_clamp(Theta + s * erfinv(y), -HALF_PI, HALF_PI);
 }
 
-void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
-                       plm_fiber_lobe_set *set)
+/* Fills set from a trace at a uniform h in [hmin, hmax]; with only_medulla,
+ * keeps the lobes that bounced off the medulla. */
+static void prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng, int only_medulla,
+                    plm_fiber_lobe_set *set)
 {
     set->count = 0;
     set->total = 0.0;
@@ -107,7 +109,7 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
     double inv_s = 1.0 / (SQRT2 * p->beta_m), unit = 1.0 / (SQRT_2PI * p->beta_m);
     for (int i = 0; i < n; ++i) {
         double w = rgb_mean(lobes[i].throughput);
-        if (!(w > 0.0))
+        if (!(w > 0.0) || (only_medulla && !lobes[i].medulla))
             continue; /* black lobes add nothing to eval, pdf or sample */
         int k = set->count++;
         set->theta[k] = plm_safe_asin(lobes[i].dir.z);
@@ -118,6 +120,30 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
     }
     set->total = set->cdf[set->count];
 }
+
+void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
+                       plm_fiber_lobe_set *set)
+{
+    prepare(p, wo, hmin, hmax, rng, 0, set);
+}
+
+void plm_fiber_prepare_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
+                               plm_fiber_lobe_set *set)
+{
+    prepare(p, wo, hmin, hmax, rng, 1, set);
+}
+
+double plm_fiber_gm_scale(double beta_m, double Theta)
+{
+    return gm_scale(Theta, 1.0 / (SQRT2 * beta_m), 1.0 / (SQRT_2PI * beta_m));
+}
+
+double plm_fiber_gm(double beta_m, double scale, double dtheta)
+{
+    return scale * gm_unnormalised(dtheta, beta_m, 0.5 / (beta_m * beta_m));
+}
+
+double plm_fiber_sample_gm(double Theta, double beta_m, double u) { return sample_gm(Theta, beta_m, u); }
 
 /* sum_k A_k G_M G_N and sum_k mean(A_k) G_M G_N at (theta, phi). */
 static void detector_sums_at(const plm_fiber_params *p, const plm_fiber_lobe_set *set, double theta, double phi,

@@ -61,6 +61,8 @@ double plm_fiber_fresnel(double cos_i, double eta);
 typedef struct plm_fiber_lobe {
     vec3 dir;       /* exit direction, unit, pointing away from the fiber */
     rgb throughput; /* fraction of the light entering at h that leaves here */
+    int medulla;    /* 1 if the path bounced off the medulla before leaving (then dir is random); such
+                     * lobes all follow the deterministic ones, which leave at theta = -theta_o */
 } plm_fiber_lobe;
 
 /* Traces light arriving from view direction wo (unit, pointing away from the
@@ -94,6 +96,20 @@ typedef struct plm_fiber_lobe_set {
  * PLM_FIBER_SET_MAX_LOBES (otherwise the set is left empty). */
 void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
                        plm_fiber_lobe_set *set);
+
+/* plm_fiber_prepare keeping only the lobes that bounced off the medulla: the
+ * part of the BCSDF the tabulated estimator leaves to a traced sample. */
+void plm_fiber_prepare_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
+                               plm_fiber_lobe_set *set);
+
+/* The longitudinal detector G_M about Theta: its normalisation 1 / (sqrt(2 pi)
+ * beta_m Z), Z the Gaussian's mass inside [-pi/2, pi/2]; its value scale *
+ * exp(-dtheta^2 / (2 beta_m^2)) (0 beyond 10 std-devs); and the inverse of
+ * its CDF at u in [0, 1). Lobes that never meet the medulla all share Theta =
+ * -theta_o, which the tabulated BCSDF (render/fiber_table.h) builds on. */
+double plm_fiber_gm_scale(double beta_m, double Theta);
+double plm_fiber_gm(double beta_m, double scale, double dtheta);
+double plm_fiber_sample_gm(double Theta, double beta_m, double u);
 
 /* S(wo, wi) for a unit wi: eval(wi) cos(theta_i) = sum_k A_k G_M(theta_i - Theta_k) G_N(phi_i - Phi_k) / cos(theta_i),
  * so the integral of eval cos over the sphere is sum_k A_k. G_M is a Gaussian

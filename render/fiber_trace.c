@@ -264,6 +264,7 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
     double inv_eta = 1.0 / p->eta, f = fresnel(cos_i, p->eta, inv_eta * inv_eta, &cos_t);
     lobe0->dir = reflect(d, n);
     lobe0->throughput = rgb_gray(f);
+    lobe0->medulla = 0;
     path->dir = refract(d, n, cos_i, cos_t, inv_eta);
     path->weight = 1.0 - f;
     path->tint = rgb_gray(1.0);
@@ -304,7 +305,7 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
     int has_medulla = plm_fiber_has_medulla(p);
     fiber_path path;
     enter(p, &cortex, wo, h, &lobes[0], &path);
-    int count = 1, on_cortex = 1;
+    int count = 1, on_cortex = 1, bounced = 0;
     const int max_interactions = 16 * max_lobes + 64;
     for (int interaction = 0; count < max_lobes && path.weight > 0.0 && interaction < max_interactions;
          ++interaction) {
@@ -318,6 +319,7 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
                 path.pos = v2(path.pos.x + tm * path.dir.x, path.pos.y + tm * path.dir.y);
                 medulla_bounce(p, &medulla, rng, &path);
                 on_cortex = 0;
+                bounced = 1;
                 if (rgb_is_black(path.tint))
                     break;
                 continue;
@@ -344,6 +346,7 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
             vec3 n = v3(gx * inv_len, gy * inv_len, 0.0);
             lobes[count].dir = refract(path.dir, v3_neg(n), cos_i, cos_t, p->eta);
             lobes[count].throughput = path_throughput(p, &path, 1.0 - f);
+            lobes[count].medulla = bounced;
             ++count;
         }
         path.weight *= f;
