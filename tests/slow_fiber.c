@@ -56,7 +56,8 @@ static void sampling_matches_pdf_for_random_fibers(void **state)
         do
             plm_fiber_prepare(&p, random_direction(&rng), -1.0, 1.0, &rng, &set);
         while (!(set.total > 0.0));
-        double pv = chi_square_p_value(&p, &set, &rng, 1000000);
+        plm_fiber_bcsdf b = bcsdf_of_set(&p, &set);
+        double pv = bcsdf_chi_square(&b, &rng, 1000000);
         fprintf(stderr, "chi-square %2d: e %.2f beta %.1f/%.1f deg, %d lobes: p-value %.4f\n", t, p.eccentricity,
                 plm_degrees(p.beta_m), plm_degrees(p.beta_n), set.count, pv);
         failures += !(pv > threshold);

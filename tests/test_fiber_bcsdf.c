@@ -54,9 +54,10 @@ static void white_furnace(void **state)
                 plm_fiber_prepare(&p, wo, -1.0, 1.0, &rng, &set);
                 double energy = set_energy(&set, 0);
                 assert_true(energy > 0.5 && energy <= 1.0 + 1e-12);
-                double integral = integrate_sphere(&p, &set, 0, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 240, 480);
+                plm_fiber_bcsdf b = bcsdf_of_set(&p, &set);
+                double integral = integrate_bcsdf(&b, 0, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 240, 480);
                 double pdf_integral =
-                    integrate_sphere(&p, &set, 3, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 240, 480);
+                    integrate_bcsdf(&b, 3, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 240, 480);
                 if (fabs(integral - energy) > 1e-3 * energy || fabs(pdf_integral - 1.0) > 1e-3) {
                     fprintf(stderr, "beta %g/%g e %g theta %g: integral %.6f energy %.6f pdf %.6f\n", p.beta_m,
                             p.beta_n, p.eccentricity, thetas[t], integral, energy, pdf_integral);
@@ -84,7 +85,8 @@ static void sampling_matches_pdf(void **state)
         vec3 wo = plm_fiber_direction(plm_radians(t == 5 ? -75.0 : 45.0), plm_radians(20.0 * t));
         plm_fiber_lobe_set set;
         plm_fiber_prepare(&p, wo, -1.0, 1.0, &rng, &set);
-        double pv = chi_square_p_value(&p, &set, &rng, 400000);
+        plm_fiber_bcsdf b = bcsdf_of_set(&p, &set);
+        double pv = bcsdf_chi_square(&b, &rng, 400000);
         fprintf(stderr, "chi-square test %d: %d lobes, p-value %.4f (threshold %.5f)\n", t, set.count, pv,
                 threshold);
         assert_true(pv > threshold);

@@ -1,0 +1,180 @@
+/* The fiber tables' disk cache: one file per (parameters, resolution, format
+ * version), named by a hash of them. A file is trusted only if its header
+ * (magic, version, the parameters themselves, the sizes) matches and its
+ * size and checksum are right; anything else is rebuilt and replaced. Files
+ * are written to a temporary name and renamed into place, so processes
+ * building the same table at once each leave a complete file, and the last
+ * rename wins. */
+#include "render/fiber_table.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/fileio.h"
+
+enum { PARAM_WORDS = 16 };
+
+typedef struct cache_header {
+    char magic[8];
+    uint32_t version, header_bytes;
+    uint64_t key;
+    int32_t theta_nodes, phi_nodes, h_cells, phi_bins, symmetry, reserved;
+    double params[PARAM_WORDS];
+    uint64_t floats, checksum;
+} cache_header;
+
+static const char cache_magic[8] = {'P', 'L', 'M', 'F', 'T', 'A', 'B', '\n'};
+
+/* The parameters as numbers (+ 0.0 makes -0 and 0 alike). */
+static void param_words(const plm_fiber_params *p, double *w)
+{
+    const double v[PARAM_WORDS] = {p->eccentricity, p->eta, p->sigma_a.r, p->sigma_a.g, p->sigma_a.b,
+                                   p->beta_m, p->beta_n, p->medulla_a, p->medulla_b, p->medulla_ca,
+                                   p->medulla_cb, p->medulla_reflectance.r, p->medulla_reflectance.g,
+                                   p->medulla_reflectance.b, (double)p->lobes, 0.0};
+    for (int i = 0; i < PARAM_WORDS; ++i)
+        w[i] = v[i] + 0.0;
+}
+
+/* FNV-1a, 64 bits. */
+static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *b = data;
+    for (size_t i = 0; i < n; ++i)
+        h = (h ^ b[i]) * 0x100000001b3ull;
+    return h;
+}
+
+static const uint64_t fnv_basis = 0xcbf29ce484222325ull;
+
+/* The header a table with this layout must have (checksum left 0). */
+static void expected_header(const plm_fiber_table *t, cache_header *h)
+{
+    memset(h, 0, sizeof *h);
+    memcpy(h->magic, cache_magic, sizeof h->magic);
+    h->version = PLM_FIBER_TABLE_VERSION;
+    h->header_bytes = sizeof *h;
+    h->theta_nodes = t->theta_nodes;
+    h->phi_nodes = t->phi_nodes;
+    h->h_cells = t->h_cells;
+    h->phi_bins = t->phi_bins;
+    h->symmetry = t->symmetry;
+    param_words(&t->params, h->params);
+    h->floats = t->floats;
+    h->key = fnv1a(fnv_basis, h, offsetof(cache_header, key));
+    h->key = fnv1a(h->key, &h->theta_nodes, offsetof(cache_header, checksum) - offsetof(cache_header, theta_nodes));
+}
+
+static int cache_dir(const plm_fiber_table_options *o, char *dir, size_t size)
+{
+    const char *env;
+    int n;
+    if (o && o->no_cache)
+        return 0;
+    if (o && o->cache_dir && o->cache_dir[0])
+        n = snprintf(dir, size, "%s", o->cache_dir);
+    else if ((env = getenv("PLUMAGE_CACHE_DIR")) && env[0])
+        n = snprintf(dir, size, "%s", env);
+    else if ((env = getenv("XDG_CACHE_HOME")) && env[0])
+        n = snprintf(dir, size, "%s/plumage", env);
+    else if ((env = getenv("HOME")) && env[0])
+        n = snprintf(dir, size, "%s/.cache/plumage", env);
+    else
+        return 0;
+    return n > 0 && (size_t)n < size;
+}
+
+static int path_for(const plm_fiber_table *t, const plm_fiber_table_options *o, char *path, size_t size)
+{
+    char dir[4000];
+    if (!cache_dir(o, dir, sizeof dir))
+        return 0;
+    cache_header h;
+    expected_header(t, &h);
+    int n = snprintf(path, size, "%s/fiber-v%d-%016llx.bin", dir, PLM_FIBER_TABLE_VERSION,
+                     (unsigned long long)h.key);
+    return n > 0 && (size_t)n < size;
+}
+
+int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_options *o, char *path, size_t size)
+{
+    plm_fiber_table t;
+    plm_fiber_table_layout(p, o, &t);
+    return path_for(&t, o, path, size);
+}
+
+/* Reads t->data from path if the file is complete and is this table's. */
+static int load(plm_fiber_table *t, const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return 0;
+    cache_header want, got;
+    expected_header(t, &want);
+    int ok = fread(&got, sizeof got, 1, fp) == 1 && memcmp(&got, &want, offsetof(cache_header, checksum)) == 0 &&
+             fread(t->data, sizeof(float), t->floats, fp) == t->floats && fgetc(fp) == EOF &&
+             fnv1a(fnv_basis, t->data, sizeof(float) * t->floats) == got.checksum;
+    fclose(fp);
+    return ok;
+}
+
+static plm_result save(const plm_fiber_table *t, const char *path, plm_error *err)
+{
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash && slash != dir) {
+        *slash = '\0';
+        plm_result rc = plm_make_dirs(dir, err);
+        if (rc != PLM_OK)
+            return rc;
+    }
+    cache_header h;
+    expected_header(t, &h);
+    h.checksum = fnv1a(fnv_basis, t->data, sizeof(float) * t->floats);
+    plm_atomic_file f;
+    plm_result rc = plm_atomic_open(&f, path, err);
+    if (rc != PLM_OK)
+        return rc;
+    if (fwrite(&h, sizeof h, 1, f.fp) != 1 || fwrite(t->data, sizeof(float), t->floats, f.fp) != t->floats) {
+        plm_atomic_abort(&f);
+        return plm_fail(err, PLM_ERR_IO, "%s: write failed", path);
+    }
+    return plm_atomic_commit(&f, err);
+}
+
+plm_result plm_fiber_table_get(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table **out,
+                               plm_error *err)
+{
+    *out = NULL;
+    plm_result rc = plm_fiber_params_validate(p, err);
+    if (rc != PLM_OK)
+        return rc;
+    plm_fiber_table *t = malloc(sizeof *t);
+    if (!t)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
+    plm_fiber_table_layout(p, o, t);
+    if ((rc = plm_fiber_table_alloc(t, err)) != PLM_OK) {
+        free(t);
+        return rc;
+    }
+    char path[4096];
+    int cached = path_for(t, o, path, sizeof path);
+    if (cached && load(t, path)) {
+        t->from_cache = 1;
+        *out = t;
+        return PLM_OK;
+    }
+    if ((rc = plm_fiber_table_build(t, o, err)) != PLM_OK) {
+        plm_fiber_table_free(t);
+        return rc;
+    }
+    plm_error save_err;
+    /* A cache that cannot be written costs a rebuild next time, nothing more. */
+    if (cached && save(t, path, &save_err) != PLM_OK && !(o && o->quiet))
+        fprintf(stderr, "warning: fiber table not cached: %s\n", save_err.message);
+    *out = t;
+    return PLM_OK;
+}
