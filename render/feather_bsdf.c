@@ -7,6 +7,27 @@ void plm_feather_params_default(plm_feather_params *p)
     p->barb.sigma_a = p->barbule.sigma_a = rgb_make(0.133, 1.967, 2.1); /* paper Fig. 7 */
     p->barb.medulla_a = p->barb.medulla_b = 0.6;
     plm_masking_params_default(&p->masking);
+    p->bcsdf = PLM_BCSDF_TABULATED;
+    p->table[0] = p->table[1] = NULL;
+}
+
+plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err)
+{
+    const plm_fiber_params *fiber[2] = {&p->barb, &p->barbule};
+    for (int k = 0; k < 2 && p->bcsdf == PLM_BCSDF_TABULATED; ++k) {
+        plm_result rc = p->table[k] ? PLM_OK : plm_fiber_table_get(fiber[k], o, &p->table[k], err);
+        if (rc != PLM_OK)
+            return rc;
+    }
+    return PLM_OK;
+}
+
+void plm_feather_params_free_tables(plm_feather_params *p)
+{
+    for (int k = 0; k < 2; ++k) {
+        plm_fiber_table_free(p->table[k]);
+        p->table[k] = NULL;
+    }
 }
 
 plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err)
@@ -91,17 +112,18 @@ void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo
         u -= m->barb[i].rate;
     }
     const plm_h_range *range[3] = {&barb_range, &m->proximal, &m->distal};
+    const plm_fiber_table *table[3] = {p->table[0], p->table[1], p->table[1]};
     for (int k = 0; k < 3; ++k) {
-        out->set[k].count = 0;
-        out->set[k].total = 0.0;
+        out->bcsdf[k].total = 0.0;
         if (out->weight[k] > 0.0)
-            plm_fiber_prepare(out->fiber[k], frame_to_local(&out->fiber_frame[k], wo), range[k]->hmin,
-                              range[k]->hmax, rng, &out->set[k]);
+            plm_fiber_bcsdf_prepare(out->fiber[k], p->bcsdf == PLM_BCSDF_TABULATED ? table[k] : NULL,
+                                    frame_to_local(&out->fiber_frame[k], wo), range[k]->hmin, range[k]->hmax, rng,
+                                    &out->bcsdf[k]);
     }
-    /* Sampling chooses among the components whose lobe set carries light. */
+    /* Sampling chooses among the components that carry light. */
     double total = 0.0;
     for (int k = 0; k < 3; ++k)
-        total += out->pick[k] = out->set[k].total > 0.0 ? out->weight[k] : 0.0;
+        total += out->pick[k] = out->bcsdf[k].total > 0.0 ? out->weight[k] : 0.0;
     for (int k = 0; k < 3; ++k)
         out->pick[k] = total > 0.0 ? out->pick[k] / total : 0.0;
 }
@@ -113,10 +135,10 @@ rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi)
 {
     rgb sum = rgb_gray(0.0);
     for (int k = 0; k < 3; ++k) {
-        if (f->weight[k] <= 0.0 || f->set[k].count == 0)
+        if (f->weight[k] <= 0.0 || !(f->bcsdf[k].total > 0.0))
             continue;
         vec3 local = frame_to_local(&f->fiber_frame[k], wi);
-        rgb s = plm_fiber_eval(f->fiber[k], &f->set[k], local);
+        rgb s = plm_fiber_bcsdf_eval(&f->bcsdf[k], local);
         sum = rgb_add(sum, rgb_scale(s, f->weight[k] * fiber_cos_theta(local)));
     }
     return rgb_mul(sum, f->tint);
@@ -127,7 +149,7 @@ double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
     double pdf = 0.0;
     for (int k = 0; k < 3; ++k)
         if (f->pick[k] > 0.0)
-            pdf += f->pick[k] * plm_fiber_pdf(f->fiber[k], &f->set[k], frame_to_local(&f->fiber_frame[k], wi));
+            pdf += f->pick[k] * plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
     return pdf;
 }
 
@@ -145,7 +167,7 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
         return 0;
     double remapped = plm_clamp(u / w[k], 0.0, 0x1.fffffffffffffp-1);
     plm_fiber_sample_rec rec;
-    if (!plm_fiber_sample(f->fiber[k], &f->set[k], remapped, u1, u2, &rec))
+    if (!plm_fiber_bcsdf_sample(&f->bcsdf[k], remapped, u1, u2, &rec))
         return 0;
     *wi = frame_to_world(&f->fiber_frame[k], rec.wi);
     *pdf = plm_feather_pdf(f, *wi);

@@ -15,12 +15,23 @@
 #include "common/rng.h"
 #include "common/vec.h"
 #include "render/fiber.h"
+#include "render/fiber_table.h"
 #include "render/masking.h"
+
+/* The fiber BCSDF estimator of a feather (docs/fiber.md). */
+typedef enum plm_bcsdf_kind {
+    PLM_BCSDF_TABULATED = 0,  /* the h-integral from a table: no sparkle (the default) */
+    PLM_BCSDF_STOCHASTIC = 1  /* one traced lobe set per shading point (the paper's estimator) */
+} plm_bcsdf_kind;
 
 typedef struct plm_feather_params {
     plm_fiber_params barb;    /* in the barb frame: axis t, e2 = b, e3 = n */
     plm_fiber_params barbule; /* in each barbule set's frame: axis, e2 = r1, e3 = r2 (docs/masking.md) */
     plm_masking_params masking;
+    plm_bcsdf_kind bcsdf;
+    /* Tables of the barb and the barbule fiber, owned; NULL until
+     * plm_feather_params_build_tables (the stochastic estimator serves until then). */
+    plm_fiber_table *table[2];
 } plm_feather_params;
 
 /* Barb: the fiber defaults with the paper's Fig. 7 absorption (0.133, 1.967, 2.1)
@@ -28,6 +39,10 @@ typedef struct plm_feather_params {
  * (no medulla) with the same absorption; masking: its defaults. */
 void plm_feather_params_default(plm_feather_params *p);
 plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err);
+/* Gets the fiber tables if the estimator is tabulated (a no-op if they are
+ * there); plm_world_build calls it for every feather material. */
+plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err);
+void plm_feather_params_free_tables(plm_feather_params *p);
 
 /* The barb frame (docs/masking.md) at a vane point, as a frame with x = b, y = n,
  * z = t: t = the texture's direction (cos a dP/du + sin a dP/dv) projected
@@ -38,7 +53,7 @@ int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, fram
 enum { PLM_FEATHER_BARB = 0, PLM_FEATHER_PROXIMAL = 1, PLM_FEATHER_DISTAL = 2 };
 
 /* The BSDF prepared for one view direction wo: the masking, the three fiber
- * frames in world space and one traced lobe set per fiber. */
+ * frames in world space and a prepared BCSDF per fiber. */
 typedef struct plm_feather_bsdf {
     const plm_feather_params *params;
     frame fiber_frame[3];      /* x = e2, y = e3, z = fiber axis, in world space */
@@ -46,7 +61,7 @@ typedef struct plm_feather_bsdf {
     double weight[3];          /* w_k / (1 - w_t): the components' share of the light that does not pass */
     double pick[3];            /* sampling probabilities: weight among components whose lobe set carries light */
     plm_masking masking;       /* for wo, in the barb frame */
-    plm_fiber_lobe_set set[3];
+    plm_fiber_bcsdf bcsdf[3];
     rgb tint;
 } plm_feather_bsdf;
 

@@ -1,5 +1,6 @@
 /* Scene storage, builders and the built-in shapes. */
 #include "render/scene.h"
+#include "render/feather_bsdf.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +30,8 @@ void plm_scene_free(plm_scene *scene)
         plm_mesh_free(&scene->meshes[i].mesh);
     for (int i = 0; i < scene->material_count; ++i) {
         plm_feather_texture_free(&scene->materials[i].texture);
+        if (scene->materials[i].feather)
+            plm_feather_params_free_tables(scene->materials[i].feather);
         free(scene->materials[i].feather);
     }
     free(scene->lights);

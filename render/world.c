@@ -2,6 +2,8 @@
  * surface hits in world space, and the camera. */
 #include "render/world.h"
 
+#include "render/feather_bsdf.h"
+
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -290,8 +292,15 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
                          fmax(fmax(fabs(w->bounds_min.y), fabs(w->bounds_max.y)),
                               fmax(fabs(w->bounds_min.z), fabs(w->bounds_max.z))));
     w->epsilon = 1e-5 * fmax(1.0, extent); /* well above float rounding at that magnitude */
-    for (int i = 0; i < scene->material_count; ++i)
+    for (int i = 0; i < scene->material_count; ++i) {
         w->transmissive |= material_transmits(&scene->materials[i]);
+        /* The feathers' fiber tables (built once, cached on disk; docs/fiber.md). */
+        plm_feather_params *f = scene->materials[i].feather;
+        if (f && (rc = plm_feather_params_build_tables(f, NULL, err)) != PLM_OK) {
+            plm_world_free(w);
+            return rc;
+        }
+    }
     w->lights = calloc((size_t)scene->light_count + 1, sizeof *w->lights);
     if (!w->lights) {
         plm_world_free(w);

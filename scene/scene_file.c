@@ -371,8 +371,13 @@ plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, c
 
 static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
-    static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking", NULL};
+    static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking",
+                                       "bcsdf", NULL};
+    static const char *const bcsdfs[] = {"tabulated", "stochastic", NULL}; /* in plm_bcsdf_kind's order */
+    int bcsdf = PLM_BCSDF_TABULATED;
     plm_result rc = plm_feather_optics_read(r, obj, path, keys, m);
+    if (rc == PLM_OK && (rc = plm_json_enum(r, obj, path, "bcsdf", bcsdfs, bcsdf, &bcsdf)) == PLM_OK)
+        m->feather->bcsdf = (plm_bcsdf_kind)bcsdf;
     char texture[PLM_PATH_MAX];
     if (rc == PLM_OK)
         rc = read_path(r, obj, path, "texture", 1, texture);

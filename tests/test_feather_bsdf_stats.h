@@ -78,8 +78,7 @@ static double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, d
     const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
     double lobe_energy = 0.0;
     for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < f->set[k].count; ++j)
-            lobe_energy += f->weight[k] * rgb_mean(f->set[k].throughput[j]);
+        lobe_energy += f->weight[k] * f->bcsdf[k].total; /* the mean over RGB of each fiber's lobe energy */
     double integral, se;
     integrate_eval(&b, rng, n, &integral, &se);
     double wt = plm_material_transmission(hit, wo), albedo = (1.0 - wt) * lobe_energy + wt;
@@ -120,7 +119,7 @@ static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
         double pdf = plm_bsdf_pdf(b, rec.wi), mix = 0.0;
         for (int k = 0; k < 3; ++k)
             if (fb->pick[k] > 0.0)
-                mix += fb->pick[k] * plm_fiber_pdf(fb->fiber[k], &fb->set[k], frame_to_local(&fb->fiber_frame[k], rec.wi));
+                mix += fb->pick[k] * plm_fiber_bcsdf_pdf(&fb->bcsdf[k], frame_to_local(&fb->fiber_frame[k], rec.wi));
         rgb e = plm_bsdf_eval(b, rec.wi);
         assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
         assert_true(fabs(mix - pdf) <= 1e-12 * pdf);
