@@ -14,6 +14,7 @@ int probe_masking(int argc, char **argv);
 int bench_masking(int argc, char **argv);
 int probe_fiber(int argc, char **argv);
 int probe_bcsdf(int argc, char **argv);
+int probe_layout(int argc, char **argv);
 int bench_fiber(int argc, char **argv);
 
 #endif
