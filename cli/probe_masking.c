@@ -238,9 +238,10 @@ int probe_masking(int argc, char **argv)
         [OPT_SEPARATION] = {"--barbule-separation", PLM_OPT_DOUBLE, &a.separation, 0, 0, 100, NULL, "S",
                             "gap between barbules / barbule width (default 1)", 0},
         [OPT_ROTATION] = {"--barbule-rotation", PLM_OPT_DOUBLE, &a.rotation_deg, 0, 0, 90, NULL, "DEG",
-                          "barbule azimuth from the barb axis, degrees (default 45)", 0},
-        [OPT_INCLINATION] = {"--barbule-inclination", PLM_OPT_DOUBLE, &a.inclination_deg, 0, 0, 89, NULL, "DEG",
-                             "barbule rise toward n, degrees (default 0)", 0},
+                          "angle of a barbule to the barb axis within its row, degrees in (0, 90) (default 45)", 0},
+        [OPT_INCLINATION] = {"--barbule-inclination", PLM_OPT_DOUBLE, &a.inclination_deg, 0, -90, 90, NULL, "DEG",
+                             "tilt of the rows about the barb axis toward n (< 0: away), degrees in (-90, 90) "
+                             "(default 0)", 0},
         [OPT_T_PROXIMAL] = {"--proximal-transmittance", PLM_OPT_DOUBLE, &a.t_proximal, 0, 0, 1, NULL, "T",
                             "--level barb: proximal barbule-level transmittance (default 0)", 0},
         [OPT_T_DISTAL] = {"--distal-transmittance", PLM_OPT_DOUBLE, &a.t_distal, 0, 0, 1, NULL, "T",

@@ -1,5 +1,5 @@
 /* Analytic barb and barbule masking (paper Sec. 6.1). See masking.h for the
- * model. Both levels measure widths along the projection axis
+ * model and docs/masking.md for the geometry. Both levels measure widths along the projection axis
  * u = (d_y, -d_x), perpendicular to the view direction d in the
  * cross-section: a fiber's visible width between two visibility rays is the
  * difference of the rays' coordinates along u (the paper's Eq. 6 for arcs and
@@ -9,11 +9,14 @@
 
 #include <math.h>
 
-/* Parameter ranges, shared by validation and the documentation. */
+/* Parameter ranges, shared by validation and the documentation
+ * (docs/masking.md). Both angles are open intervals: at 0 or 90 degrees of
+ * rotation, or +-90 of inclination, barbules lie along the barb or stand
+ * upright and the rows of neighbouring barbs never meet. */
 #define MAX_ECCENTRICITY 20.0
 #define MAX_LENGTH 100.0
 #define MAX_SEPARATION 100.0
-#define MAX_INCLINATION_DEG 89.0
+#define MAX_INCLINATION_DEG 90.0
 #define MAX_ROTATION_DEG 90.0
 
 void plm_masking_params_default(plm_masking_params *p)
@@ -26,30 +29,36 @@ void plm_masking_params_default(plm_masking_params *p)
     p->barbule_inclination = 0.0;
 }
 
-/* lo_open: the lower bound is excluded. */
-static plm_result check_range(plm_error *err, const char *name, double v, double lo, double hi, int lo_open,
-                              double shown_scale, const char *unit)
+typedef struct range {
+    double lo, hi;
+    int lo_open, hi_open; /* the bound itself is excluded */
+} range;
+
+static plm_result check_range(plm_error *err, const char *name, double v, range r, double shown_scale,
+                              const char *unit)
 {
-    int ok = isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
+    int ok = isfinite(v) && (r.lo_open ? v > r.lo : v >= r.lo) && (r.hi_open ? v < r.hi : v <= r.hi);
     if (ok)
         return PLM_OK;
-    return plm_fail(err, PLM_ERR_INVALID, "masking parameter %s = %g%s is out of range %c%g, %g]%s", name,
-                    v * shown_scale, unit, lo_open ? '(' : '[', lo * shown_scale, hi * shown_scale,
-                    isfinite(v) ? "" : " (not a finite number)");
+    return plm_fail(err, PLM_ERR_INVALID, "masking parameter %s = %g%s is out of range %c%g, %g%c%s", name,
+                    v * shown_scale, unit, r.lo_open ? '(' : '[', r.lo * shown_scale, r.hi * shown_scale,
+                    r.hi_open ? ')' : ']', isfinite(v) ? "" : " (not a finite number)");
 }
 
 plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err)
 {
     const double deg = 180.0 / PLM_PI;
+    const range eccentricity = {0.0, MAX_ECCENTRICITY, 1, 0}, length = {0.0, MAX_LENGTH, 1, 0};
+    const range separation = {0.0, MAX_SEPARATION, 0, 0};
+    const range rotation = {0.0, plm_radians(MAX_ROTATION_DEG), 1, 1};
+    const range inclination = {-plm_radians(MAX_INCLINATION_DEG), plm_radians(MAX_INCLINATION_DEG), 1, 1};
     plm_result r;
-    if ((r = check_range(err, "barb_eccentricity", p->barb_eccentricity, 0.0, MAX_ECCENTRICITY, 1, 1.0, "")) ||
-        (r = check_range(err, "barbule_eccentricity", p->barbule_eccentricity, 0.0, MAX_ECCENTRICITY, 1, 1.0, "")) ||
-        (r = check_range(err, "barbule_length", p->barbule_length, 0.0, MAX_LENGTH, 1, 1.0, "")) ||
-        (r = check_range(err, "barbule_separation", p->barbule_separation, 0.0, MAX_SEPARATION, 0, 1.0, "")) ||
-        (r = check_range(err, "barbule_rotation", p->barbule_rotation, 0.0, plm_radians(MAX_ROTATION_DEG), 0, deg,
-                         " deg")) ||
-        (r = check_range(err, "barbule_inclination", p->barbule_inclination, 0.0,
-                         plm_radians(MAX_INCLINATION_DEG), 0, deg, " deg")))
+    if ((r = check_range(err, "barb_eccentricity", p->barb_eccentricity, eccentricity, 1.0, "")) ||
+        (r = check_range(err, "barbule_eccentricity", p->barbule_eccentricity, eccentricity, 1.0, "")) ||
+        (r = check_range(err, "barbule_length", p->barbule_length, length, 1.0, "")) ||
+        (r = check_range(err, "barbule_separation", p->barbule_separation, separation, 1.0, "")) ||
+        (r = check_range(err, "barbule_rotation", p->barbule_rotation, rotation, deg, " deg")) ||
+        (r = check_range(err, "barbule_inclination", p->barbule_inclination, inclination, deg, " deg")))
         return r;
     return PLM_OK;
 }
@@ -364,17 +373,22 @@ void plm_masking_barb(double barb_eccentricity, double barbule_length, double ba
 
 /* ---------------------------------------------------------------- full masking */
 
+/* A row lies in the plane through t tilted about t by theta_bb; p is the
+ * in-plane direction across the row, p = (+-cos theta, sin theta, 0). A
+ * barbule's axis makes phi_bb with t in that plane, r1 = r2 x axis runs
+ * across the barbules within the row and r2 is the row's dorsal normal
+ * (docs/masking.md). The proximal frame is the distal one mirrored across the
+ * barb plane (b -> -b) with r1 negated, so that both are right-handed. */
 void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *proximal, plm_barbule_frame *distal)
 {
     double sp = sin(p->barbule_rotation), cp = cos(p->barbule_rotation);
     double st = sin(p->barbule_inclination), ct = cos(p->barbule_inclination);
-    vec3 r2 = v3(0.0, ct, -st);
-    distal->axis = v3(sp, st * cp, ct * cp);
-    distal->e2 = v3(cp, -st * sp, -ct * sp);
-    distal->e3 = r2;
-    proximal->axis = v3(-sp, st * cp, ct * cp);
-    proximal->e2 = v3(cp, st * sp, ct * sp);
-    proximal->e3 = r2;
+    distal->axis = v3(sp * ct, sp * st, cp);
+    distal->e2 = v3(cp * ct, cp * st, -sp);
+    distal->e3 = v3(-st, ct, 0.0);
+    proximal->axis = v3(-sp * ct, sp * st, cp);
+    proximal->e2 = v3(cp * ct, -cp * st, sp);
+    proximal->e3 = v3(st, ct, 0.0);
 }
 
 void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model)

@@ -1,35 +1,41 @@
-/* Analytic masking of barbs and barbules (paper Sec. 6.1, Figs. 5 and 6).
+/* Analytic masking of barbs and barbules (paper Sec. 6.1, Figs. 5 and 6;
+ * the geometry, frames and conventions are in docs/masking.md).
  *
  * For a view direction, the masking says which fraction of the vane's
  * projected width belongs to the barb, the proximal barbules, the distal
  * barbules and the gaps (w_barb + w_proximal + w_distal + w_transmission = 1),
- * and which part of each fiber's width (its h-interval, docs/masking.md) is seen.
+ * and which part of each fiber's width (its h-interval) is seen.
  *
  * It works at two scales, each a 2D cross-section:
  * - barbule level: a row of barbule ellipses (period 1, semi-axes
  *   a = 1 / (2 (1 + delta_bb)) along r1 and e_bb * a along r2); either
  *   neighbours overlap in projection (no transmittance, part of the width
  *   hidden) or the gap shows (transmittance = projected gap / period);
- * - barb level: barbs are ellipses with period 1 along b, barbules are
+ * - barb level: barbs are ellipses with period 1 along b, barbule rows are
  *   segments of length l_bb barb half-widths leaving each barb's side at the
- *   height of its centre and rising at theta_bb to a ridge shared with the
- *   neighbour; a barbule segment lets a ray through with its set's barbule-level
- *   transmittance (independent layers multiply).
- * Directions are in the barb frame of docs/masking.md: (x, y, z) = (w.b, w.n, w.t). */
+ *   height of its centre and rising at theta_bb (falling if negative) to a
+ *   ridge (valley) shared with the neighbour; a row lets a ray through with
+ *   its set's barbule-level transmittance (independent layers multiply).
+ * Both levels see one 3D arrangement: each row lies in a plane through the
+ * barb axis t tilted about t by theta_bb, its barbules at phi_bb to t within
+ * that plane (plm_masking_barbule_frames).
+ * Directions are in the barb frame (x, y, z) = (w.b, w.n, w.t): n the
+ * dorsal normal, t the barb axis away from the rachis, b toward the tip. */
 #ifndef PLUMAGE_RENDER_MASKING_H
 #define PLUMAGE_RENDER_MASKING_H
 
 #include "common/error.h"
 #include "common/vec.h"
 
-/* The paper authors' parameters (docs/masking.md); angles in radians here. */
+/* The authors' parameter names; angles in radians here (degrees in files and
+ * on the command line). */
 typedef struct plm_masking_params {
     double barb_eccentricity;    /* e_b: barb extent along n / extent along b, (0, 20] */
     double barbule_eccentricity; /* e_bb: the same in a barbule's row frame, (0, 20] */
     double barbule_length;       /* l_bb: in barb half-widths, (0, 100] */
     double barbule_separation;   /* delta_bb: gap / barbule width, [0, 100] */
-    double barbule_rotation;     /* phi_bb: azimuth away from the barb axis, [0, pi/2] */
-    double barbule_inclination;  /* theta_bb: rise toward n, [0, 89 degrees] */
+    double barbule_rotation;     /* phi_bb: angle between a barbule and the barb axis, (0, 90) degrees */
+    double barbule_inclination;  /* theta_bb: tilt of the rows about t, toward n if > 0, (-90, 90) degrees */
 } plm_masking_params;
 
 /* Defaults: e_b 1, e_bb 1, l_bb 1, delta_bb 1, phi_bb 45 deg, theta_bb 0. */
@@ -38,7 +44,8 @@ void plm_masking_params_default(plm_masking_params *p);
  * for the angles) if any field is out of range or not finite. */
 plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err);
 
-/* A visible interval of a fiber's h (docs/masking.md) and the fraction of the
+/* A visible interval of a fiber's h (from -1 to 1 across its silhouette,
+ * increasing along (d_y, -d_x) for the view d in its cross-section) and the fraction of the
  * vane's projected width that sees the fiber through it. */
 typedef struct plm_h_range {
     double hmin, hmax, rate;
@@ -99,8 +106,11 @@ typedef struct plm_barb_masking {
 void plm_masking_barb(double barb_eccentricity, double barbule_length, double barbule_inclination,
                       double t_proximal, double t_distal, vec2 d, plm_barb_masking *out);
 
-/* The fiber frame of one barbule set in the barb frame (docs/masking.md): its axis,
- * e2 = r1 (across the barbules, within their row), e3 = r2 (the row normal). */
+/* The fiber frame of one barbule set in the barb frame: its axis, e2 = r1
+ * (across the barbules, within their row), e3 = r2 (the row's dorsal normal).
+ * With p = (+-cos theta_bb, sin theta_bb, 0) across the distal (+) or
+ * proximal (-) row: axis = sin phi_bb p + cos phi_bb t, r2 is the unit normal
+ * of the row plane with r2 . n > 0, and r1 = r2 x axis. */
 void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *proximal,
                                 plm_barbule_frame *distal);
 

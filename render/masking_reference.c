@@ -109,14 +109,20 @@ static void solid_intersect_cb(const struct RTCIntersectFunctionNArguments *args
     rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-/* The model's frames (docs/masking.md): a barbule set's axis and cross-section axes (side +1 distal, -1 proximal). */
+/* A barbule set's axis and cross-section axes, built from the arrangement
+ * (side +1 distal, -1 proximal): the row is the plane through the barb axis
+ * t = z and the direction p that rises at theta_bb across the barb's side;
+ * a barbule runs at phi_bb from t within it; e3 is the row plane's normal on
+ * the dorsal side, e2 = e3 x axis lies in the row across the barbules. */
 static void barbule_axes(const plm_masking_params *p, double side, vec3 *axis, vec3 *e2, vec3 *e3)
 {
-    double sp = sin(p->barbule_rotation), cp = cos(p->barbule_rotation);
-    double st = sin(p->barbule_inclination), ct = cos(p->barbule_inclination);
-    *axis = v3(side * sp, st * cp, ct * cp);
-    *e2 = v3(cp, -side * st * sp, -side * ct * sp);
-    *e3 = v3(0.0, ct, -st);
+    vec3 t = v3(0.0, 0.0, 1.0);
+    vec3 across = v3(side * cos(p->barbule_inclination), sin(p->barbule_inclination), 0.0);
+    *axis = v3_add(v3_scale(across, sin(p->barbule_rotation)), v3_scale(t, cos(p->barbule_rotation)));
+    *e3 = v3_normalize(v3_cross(t, across));
+    if (e3->y < 0.0)
+        *e3 = v3_neg(*e3);
+    *e2 = v3_cross(*e3, *axis);
 }
 
 /* Appends the barbules of one set of barb j, and their copies one period
@@ -186,11 +192,12 @@ static plm_result build_solids(plm_masking_reference *ref, const plm_masking_par
     ref->x0 = -0.5;
     ref->x1 = o->barbs - 0.5;
     ref->z1 = o->length;
-    /* vertical extent: barb tops and the highest barbule end, with margin */
+    /* vertical extent: barb tops and bottoms and the ridges (valleys, if
+     * the rows fall), with the barbules' thickness and a margin */
     double rise = (0.5 - w) * axis.y / axis.x;
-    double thick = o->pitch * (1.0 + p->barbule_eccentricity);
-    ref->y1 = fmax(w * p->barb_eccentricity, rise + thick) + 0.01;
-    ref->y0 = -fmax(w * p->barb_eccentricity, thick) - 0.01;
+    double thick = o->pitch * (1.0 + p->barbule_eccentricity), hb = w * p->barb_eccentricity;
+    ref->y1 = fmax(hb, fmax(rise, 0.0) + thick) + 0.01;
+    ref->y0 = -fmax(hb, fmax(-rise, 0.0) + thick) - 0.01;
     return PLM_OK;
 }
 
@@ -254,7 +261,7 @@ void plm_masking_reference_destroy(plm_masking_reference *ref)
     free(ref);
 }
 
-/* h of a hit point on a solid for view direction wo (docs/masking.md): the
+/* h of a hit point on a solid for view direction wo (as in masking.h): the
  * point's offset along (d_y, -d_x) over the solid's projected half-width. */
 static double hit_h(const solid *s, vec3 p, vec3 wo)
 {

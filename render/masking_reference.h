@@ -10,13 +10,16 @@
  * - barb j: an elliptic cylinder along z through (j, 0), semi-axes w along b
  *   and e_b w along n, with w = 1 / (2 (1 + l_bb cos theta_bb)) as in the
  *   paper's cross-section (barb width plus two barbule spans is one period);
- * - barbules: elliptic cylinders along the model's barbule axes, cross-section
- *   semi-axes a along r1 and e_bb a along r2, rooted on the barb's side at
- *   the height of its centre, one every `pitch / sqrt(1 - (axis . t)^2)`
- *   along t (so neighbours are `pitch` apart across the row) with
- *   a = pitch / (2 (1 + delta_bb)), each set of each barb at its own random
+ * - two rows of barbules per barb, each in the plane through the barb's side
+ *   line (j +- w, 0, z) that contains t and rises at theta_bb across the barb
+ *   (falls, if negative); within it each barbule is an elliptic cylinder at
+ *   phi_bb from t, leaning toward the barb's tip, with cross-section
+ *   semi-axes a along r1 (in the row, across the barbules) and e_bb a along
+ *   r2 (the row's normal). Barbules are rooted one every `pitch / sin phi_bb`
+ *   along t (so neighbours are `pitch` apart across the row), with
+ *   a = pitch / (2 (1 + delta_bb)), each row of each barb at its own random
  *   phase along t; each barbule is cut by the plane x = j +- 1/2 where the
- *   distal barbules of barb j meet the proximal ones of barb j + 1.
+ *   distal row of barb j meets the proximal row of barb j + 1.
  * A ray that leaves through the bottom (top, for views from below) of the
  * scene is transmitted. */
 #ifndef PLUMAGE_RENDER_MASKING_REFERENCE_H
@@ -48,7 +51,7 @@ void plm_masking_reference_destroy(plm_masking_reference *ref);
  * scene) from direction wo (toward the viewer, barb frame, need not be
  * normalised) and fills out with the fractions that hit the barb, the
  * proximal and distal barbules first or pass through. The h-intervals
- * (docs/masking.md) span the hits on each kind less 1% of them at each end (rays
+ * (h as in masking.h) span the hits on each kind less 1% of them at each end (rays
  * slipping past the cut ends of barbule rows would stretch them; each end is
  * good to about 0.02), and the barb has one range [hmin, hmax] holding w_barb;
  * a kind never hit gets [0, 0].

@@ -338,7 +338,7 @@ static plm_result read_masking(const plm_json_reader *r, const cJSON *parent, co
     if (rc == PLM_OK)
         rc = plm_json_number(r, obj, path, "barbule_rotation", rotation, 0.0, 90.0, &rotation);
     if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barbule_inclination", inclination, 0.0, 89.0, &inclination);
+        rc = plm_json_number(r, obj, path, "barbule_inclination", inclination, -90.0, 90.0, &inclination);
     if (rc != PLM_OK)
         return rc;
     m->barbule_rotation = plm_radians(rotation);

@@ -16,16 +16,6 @@
 #include "common/rng.h"
 #include "render/masking.h"
 
-/* cmocka's assert_float_equal works in single precision; these checks need double. */
-#define assert_close(a, b, tol) assert_close_at((a), (b), (tol), #a, __FILE__, __LINE__)
-static void assert_close_at(double a, double b, double tol, const char *what, const char *file, int line)
-{
-    if (!(fabs(a - b) <= tol)) {
-        fprintf(stderr, "%s:%d: %s = %.17g, expected %.17g within %g\n", file, line, what, a, b, tol);
-        fail();
-    }
-}
-
 static double uniform(plm_rng *rng, double lo, double hi) { return lo + (hi - lo) * plm_rng_uniform(rng); }
 
 static plm_masking_params random_params(plm_rng *rng)
@@ -35,8 +25,8 @@ static plm_masking_params random_params(plm_rng *rng)
     p.barbule_eccentricity = uniform(rng, 0.2, 4.0);
     p.barbule_length = uniform(rng, 0.1, 6.0);
     p.barbule_separation = plm_rng_uniform(rng) < 0.1 ? 0.0 : uniform(rng, 0.0, 4.0);
-    p.barbule_rotation = plm_radians(uniform(rng, 0.0, 90.0));
-    p.barbule_inclination = plm_radians(uniform(rng, 0.0, 80.0));
+    p.barbule_rotation = plm_radians(uniform(rng, 0.01, 89.99));
+    p.barbule_inclination = plm_radians(uniform(rng, -80.0, 80.0));
     return p;
 }
 
@@ -93,15 +83,15 @@ static void normal_view_has_closed_form_weights(void **state)
         plm_masking m;
         plm_masking_eval(&p, v3(0.0, 2.0, 0.0), &m);
         double w = 0.5 / (1.0 + p.barbule_length), t = p.barbule_separation / (1.0 + p.barbule_separation);
-        assert_close(m.w_barb, 2.0 * w, 1e-12);
-        assert_close(m.w_proximal, (0.5 - w) * (1.0 - t), 1e-12);
-        assert_close(m.w_distal, (0.5 - w) * (1.0 - t), 1e-12);
-        assert_close(m.w_transmission, (1.0 - 2.0 * w) * t, 1e-12);
+        assert_double_near(m.w_barb, 2.0 * w, 1e-12);
+        assert_double_near(m.w_proximal, (0.5 - w) * (1.0 - t), 1e-12);
+        assert_double_near(m.w_distal, (0.5 - w) * (1.0 - t), 1e-12);
+        assert_double_near(m.w_transmission, (1.0 - 2.0 * w) * t, 1e-12);
         assert_int_equal(m.barb_range_count, 1);
-        assert_close(m.barb[0].hmin, -1.0, 1e-12);
-        assert_close(m.barb[0].hmax, 1.0, 1e-12);
-        assert_close(m.proximal.hmin, -1.0, 1e-12);
-        assert_close(m.distal.hmax, 1.0, 1e-12);
+        assert_double_near(m.barb[0].hmin, -1.0, 1e-12);
+        assert_double_near(m.barb[0].hmax, 1.0, 1e-12);
+        assert_double_near(m.proximal.hmin, -1.0, 1e-12);
+        assert_double_near(m.distal.hmax, 1.0, 1e-12);
         check_invariants(&m);
     }
 }
@@ -118,23 +108,23 @@ static void barbule_level_has_closed_form(void **state)
         plm_barbule_masking m;
         plm_masking_barbule(e, delta, v2(3.0 * sin(alpha), 3.0 * cos(alpha)), &m);
         if (period > width) {
-            assert_close(m.transmittance, 1.0 - width / period, 1e-12);
-            assert_close(m.hmin, -1.0, 1e-15);
-            assert_close(m.hmax, 1.0, 1e-15);
+            assert_double_near(m.transmittance, 1.0 - width / period, 1e-12);
+            assert_double_near(m.hmin, -1.0, 1e-15);
+            assert_double_near(m.hmax, 1.0, 1e-15);
         } else {
-            assert_close(m.transmittance, 0.0, 0.0);
-            assert_close(m.hmax - m.hmin, 2.0 * period / width, 1e-12);
+            assert_double_near(m.transmittance, 0.0, 0.0);
+            assert_double_near(m.hmax - m.hmin, 2.0 * period / width, 1e-12);
             /* The neighbour on the d_x side hides the high-h side when d_x d_y > 0. */
             if (i > 0)
-                assert_close(m.hmin, -1.0, 0.0);
+                assert_double_near(m.hmin, -1.0, 0.0);
             else
-                assert_close(m.hmax, 1.0, 0.0);
+                assert_double_near(m.hmax, 1.0, 0.0);
         }
         /* From below the row looks the same with h mirrored. */
         plm_barbule_masking below;
         plm_masking_barbule(e, delta, v2(sin(alpha), -cos(alpha)), &below);
-        assert_close(below.transmittance, m.transmittance, 1e-12);
-        assert_close(below.hmin, -m.hmax, 1e-12);
+        assert_double_near(below.transmittance, m.transmittance, 1e-12);
+        assert_double_near(below.hmin, -m.hmax, 1e-12);
     }
 }
 
@@ -149,10 +139,10 @@ static void touching_barbules_transmit_nothing(void **state)
         vec3 wo = random_direction(&rng);
         plm_barbule_masking b;
         plm_masking_barbule(p.barbule_eccentricity, 0.0, v2(wo.x, wo.y), &b);
-        assert_close(b.transmittance, 0.0, 0.0);
+        assert_double_near(b.transmittance, 0.0, 0.0);
         plm_masking m;
         plm_masking_eval(&p, wo, &m);
-        assert_close(m.w_transmission, 0.0, 0.0);
+        assert_double_near(m.w_transmission, 0.0, 0.0);
         check_invariants(&m);
     }
 }
@@ -170,17 +160,88 @@ static void mirror_swaps_proximal_and_distal(void **state)
         plm_masking m, r;
         plm_masking_eval(&p, wo, &m);
         plm_masking_eval(&p, v3(-wo.x, wo.y, wo.z), &r);
-        assert_close(r.w_barb, m.w_barb, 1e-9);
-        assert_close(r.w_proximal, m.w_distal, 1e-9);
-        assert_close(r.w_distal, m.w_proximal, 1e-9);
-        assert_close(r.w_transmission, m.w_transmission, 1e-9);
-        assert_close(r.proximal.hmin, -m.distal.hmax, 1e-9);
-        assert_close(r.distal.hmax, -m.proximal.hmin, 1e-9);
+        assert_double_near(r.w_barb, m.w_barb, 1e-9);
+        assert_double_near(r.w_proximal, m.w_distal, 1e-9);
+        assert_double_near(r.w_distal, m.w_proximal, 1e-9);
+        assert_double_near(r.w_transmission, m.w_transmission, 1e-9);
+        assert_double_near(r.proximal.hmin, -m.distal.hmax, 1e-9);
+        assert_double_near(r.distal.hmax, -m.proximal.hmin, 1e-9);
         assert_int_equal(r.barb_range_count, m.barb_range_count);
         for (int k = 0; k < m.barb_range_count; ++k) {
             const plm_h_range *a = &m.barb[k], *b = &r.barb[m.barb_range_count - 1 - k];
-            assert_close(b->hmin, -a->hmax, 1e-9);
-            assert_close(b->rate, a->rate, 1e-9);
+            assert_double_near(b->hmin, -a->hmax, 1e-9);
+            assert_double_near(b->rate, a->rate, 1e-9);
+        }
+    }
+}
+
+/* Mirroring the view across the vane plane (n -> -n) and the rows with it
+ * (theta_bb -> -theta_bb) gives the same weights; every h is mirrored. */
+static void mirror_across_the_vane_negates_the_inclination(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 17, 0);
+    for (int i = 0; i < 20000; ++i) {
+        plm_masking_params p = random_params(&rng), q = p;
+        q.barbule_inclination = -p.barbule_inclination;
+        vec3 wo = random_direction(&rng);
+        plm_masking m, r;
+        plm_masking_eval(&p, wo, &m);
+        plm_masking_eval(&q, v3(wo.x, -wo.y, wo.z), &r);
+        assert_double_near(r.w_barb, m.w_barb, 1e-9);
+        assert_double_near(r.w_proximal, m.w_proximal, 1e-9);
+        assert_double_near(r.w_distal, m.w_distal, 1e-9);
+        assert_double_near(r.w_transmission, m.w_transmission, 1e-9);
+        assert_double_near(r.proximal.hmin, -m.proximal.hmax, 1e-9);
+        assert_double_near(r.distal.hmin, -m.distal.hmax, 1e-9);
+        assert_int_equal(r.barb_range_count, m.barb_range_count);
+        for (int k = 0; k < m.barb_range_count; ++k) {
+            const plm_h_range *a = &m.barb[k], *b = &r.barb[m.barb_range_count - 1 - k];
+            assert_double_near(b->hmin, -a->hmax, 1e-9);
+            assert_double_near(b->rate, a->rate, 1e-9);
+        }
+    }
+}
+
+/* The full masking is the barb level fed with the two barbule levels, each
+ * seeing the view in its own row frame, written out here from the geometry
+ * (docs/masking.md): a test of the wiring. */
+static void full_masking_composes_the_levels_through_the_row_frames(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 18, 0);
+    for (int i = 0; i < 20000; ++i) {
+        plm_masking_params p = random_params(&rng);
+        vec3 wo = random_direction(&rng);
+        double sp = sin(p.barbule_rotation), cp = cos(p.barbule_rotation);
+        double st = sin(p.barbule_inclination), ct = cos(p.barbule_inclination);
+        /* r1 and r2 of the proximal and distal rows */
+        vec3 r1[2] = {v3(cp * ct, -cp * st, sp), v3(cp * ct, cp * st, -sp)};
+        vec3 r2[2] = {v3(st, ct, 0.0), v3(-st, ct, 0.0)};
+        plm_barbule_masking bb[2];
+        for (int k = 0; k < 2; ++k)
+            plm_masking_barbule(p.barbule_eccentricity, p.barbule_separation,
+                                v2(v3_dot(wo, r1[k]), v3_dot(wo, r2[k])), &bb[k]);
+        plm_barb_masking b;
+        plm_masking_barb(p.barb_eccentricity, p.barbule_length, p.barbule_inclination, bb[0].transmittance,
+                         bb[1].transmittance, v2(wo.x, wo.y), &b);
+        plm_masking m;
+        plm_masking_eval(&p, wo, &m);
+        assert_double_near(m.w_barb, b.w_barb, 1e-9);
+        assert_double_near(m.w_proximal, b.w_proximal, 1e-9);
+        assert_double_near(m.w_distal, b.w_distal, 1e-9);
+        assert_double_near(m.w_transmission, b.w_transmission, 1e-9);
+        assert_double_near(m.proximal.hmin, bb[0].hmin, 1e-9);
+        assert_double_near(m.proximal.hmax, bb[0].hmax, 1e-9);
+        assert_double_near(m.distal.hmin, bb[1].hmin, 1e-9);
+        assert_double_near(m.distal.hmax, bb[1].hmax, 1e-9);
+        assert_int_equal(m.barb_range_count, b.barb_range_count);
+        for (int k = 0; k < b.barb_range_count; ++k) {
+            assert_double_near(m.barb[k].hmin, b.barb[k].hmin, 1e-9);
+            assert_double_near(m.barb[k].hmax, b.barb[k].hmax, 1e-9);
+            assert_double_near(m.barb[k].rate, b.barb[k].rate, 1e-9);
         }
     }
 }
@@ -205,8 +266,11 @@ static void random_and_degenerate_views_give_valid_results(void **state)
     }
 }
 
-/* The barbule frames are orthonormal and right-handed, as docs/masking.md writes them. */
-static void barbule_frames_are_orthonormal(void **state)
+/* The barbule frames describe rows rooted along the barb: orthonormal and
+ * right-handed (r1 = r2 x axis), r2 normal to t (the row plane contains the
+ * barb axis), the axis at phi_bb from t, and the row, seen along t in the barb
+ * cross-section, leaving the barb's side at theta_bb toward n. */
+static void barbule_frames_are_rows_rooted_along_the_barb(void **state)
 {
     (void)state;
     plm_rng rng;
@@ -216,15 +280,16 @@ static void barbule_frames_are_orthonormal(void **state)
         plm_barbule_frame f[2];
         plm_masking_barbule_frames(&p, &f[0], &f[1]);
         for (int k = 0; k < 2; ++k) {
-            assert_close(v3_length(f[k].axis), 1.0, 1e-12);
-            assert_close(v3_length(f[k].e2), 1.0, 1e-12);
-            assert_close(v3_length(f[k].e3), 1.0, 1e-12);
-            assert_close(v3_dot(f[k].axis, f[k].e2), 0.0, 1e-12);
-            assert_close(v3_dot(f[k].axis, f[k].e3), 0.0, 1e-12);
-            assert_close(v3_dot(f[k].e2, f[k].e3), 0.0, 1e-12);
-            /* distal leaves toward +b, proximal toward -b, both rise toward n */
-            assert_true(k == 1 ? f[k].axis.x >= 0.0 : f[k].axis.x <= 0.0);
-            assert_true(f[k].axis.y >= 0.0);
+            double side = k == 1 ? 1.0 : -1.0; /* distal leaves toward +b, proximal toward -b */
+            assert_double_near(v3_length(f[k].axis), 1.0, 1e-12);
+            assert_double_near(v3_length(f[k].e3), 1.0, 1e-12);
+            assert_double_near(v3_dot(f[k].axis, f[k].e3), 0.0, 1e-12);
+            vec3 r1 = v3_cross(f[k].e3, f[k].axis);
+            assert_double_near(v3_length(v3_sub(r1, f[k].e2)), 0.0, 1e-12);
+            assert_double_near(f[k].e3.z, 0.0, 1e-15);
+            assert_true(f[k].e3.y > 0.0);
+            assert_double_near(f[k].axis.z, cos(p.barbule_rotation), 1e-12);
+            assert_double_near(atan2(f[k].axis.y, side * f[k].axis.x), p.barbule_inclination, 1e-12);
         }
     }
 }
@@ -386,7 +451,8 @@ static void barb_level_matches_plain_ray_casting(void **state)
     plm_rng_seed(&rng, 16, 0);
     const int n = 4000;
     for (int i = 0; i < 400; ++i) {
-        double e_b = uniform(&rng, 0.2, 6.0), l = uniform(&rng, 0.1, 6.0), theta = plm_radians(uniform(&rng, 0.0, 85.0));
+        double e_b = uniform(&rng, 0.2, 6.0), l = uniform(&rng, 0.1, 6.0);
+        double theta = plm_radians(uniform(&rng, -85.0, 85.0));
         double tp = uniform(&rng, 0.0, 1.0), td = uniform(&rng, 0.0, 1.0);
         double elevation = plm_radians(uniform(&rng, 3.0, 90.0)), side = plm_rng_uniform(&rng) < 0.5 ? -1.0 : 1.0;
         double sign = plm_rng_uniform(&rng) < 0.5 ? -1.0 : 1.0;
@@ -398,7 +464,7 @@ static void barb_level_matches_plain_ray_casting(void **state)
         double got[4] = {m.w_barb, m.w_proximal, m.w_distal, m.w_transmission};
         /* n evenly spread rays miss each of at most 5 class boundaries by half a ray */
         for (int k = 0; k < 4; ++k)
-            assert_close(got[k], cast[k], 5.0 / n);
+            assert_double_near(got[k], cast[k], 5.0 / n);
         /* the barb's h-ranges put the same rate in each h bin as the rays do */
         double got_h[H_BINS] = {0};
         for (int r = 0; r < m.barb_range_count; ++r) {
@@ -410,29 +476,34 @@ static void barb_level_matches_plain_ray_casting(void **state)
             }
         }
         for (int b = 0; b < H_BINS; ++b)
-            assert_close(got_h[b], cast_h[b], 5.0 / n);
+            assert_double_near(got_h[b], cast_h[b], 5.0 / n);
     }
 }
 
+/* Out-of-range values are named with the field and its range; the angles'
+ * ranges are open (degrees in the message). */
 static void validation_names_the_field_and_range(void **state)
 {
     (void)state;
     struct {
         size_t offset;
         double value;
-        const char *name;
+        const char *name, *range;
     } bad[] = {
-        {offsetof(plm_masking_params, barb_eccentricity), 0.0, "barb_eccentricity"},
-        {offsetof(plm_masking_params, barb_eccentricity), -1.0, "barb_eccentricity"},
-        {offsetof(plm_masking_params, barbule_eccentricity), 0.0, "barbule_eccentricity"},
-        {offsetof(plm_masking_params, barbule_length), 0.0, "barbule_length"},
-        {offsetof(plm_masking_params, barbule_length), -2.0, "barbule_length"},
-        {offsetof(plm_masking_params, barbule_separation), -0.1, "barbule_separation"},
-        {offsetof(plm_masking_params, barbule_rotation), plm_radians(91.0), "barbule_rotation"},
-        {offsetof(plm_masking_params, barbule_inclination), plm_radians(90.0), "barbule_inclination"},
-        {offsetof(plm_masking_params, barbule_inclination), -0.1, "barbule_inclination"},
-        {offsetof(plm_masking_params, barbule_separation), NAN, "barbule_separation"},
-        {offsetof(plm_masking_params, barb_eccentricity), INFINITY, "barb_eccentricity"},
+        {offsetof(plm_masking_params, barb_eccentricity), 0.0, "barb_eccentricity", "(0, 20]"},
+        {offsetof(plm_masking_params, barb_eccentricity), -1.0, "barb_eccentricity", "(0, 20]"},
+        {offsetof(plm_masking_params, barbule_eccentricity), 0.0, "barbule_eccentricity", "(0, 20]"},
+        {offsetof(plm_masking_params, barbule_length), 0.0, "barbule_length", "(0, 100]"},
+        {offsetof(plm_masking_params, barbule_length), -2.0, "barbule_length", "(0, 100]"},
+        {offsetof(plm_masking_params, barbule_separation), -0.1, "barbule_separation", "[0, 100]"},
+        {offsetof(plm_masking_params, barbule_rotation), plm_radians(91.0), "barbule_rotation", "(0, 90)"},
+        {offsetof(plm_masking_params, barbule_rotation), plm_radians(90.0), "barbule_rotation", "(0, 90)"},
+        {offsetof(plm_masking_params, barbule_rotation), 0.0, "barbule_rotation", "(0, 90)"},
+        {offsetof(plm_masking_params, barbule_inclination), plm_radians(90.0), "barbule_inclination", "(-90, 90)"},
+        {offsetof(plm_masking_params, barbule_inclination), plm_radians(-90.0), "barbule_inclination", "(-90, 90)"},
+        {offsetof(plm_masking_params, barbule_inclination), plm_radians(-120.0), "barbule_inclination", "(-90, 90)"},
+        {offsetof(plm_masking_params, barbule_separation), NAN, "barbule_separation", "[0, 100]"},
+        {offsetof(plm_masking_params, barb_eccentricity), INFINITY, "barb_eccentricity", "(0, 20]"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         plm_masking_params p;
@@ -443,8 +514,14 @@ static void validation_names_the_field_and_range(void **state)
         err.message[0] = '\0';
         assert_int_equal(plm_masking_params_validate(&p, &err), PLM_ERR_INVALID);
         assert_non_null(strstr(err.message, bad[i].name));
-        assert_non_null(strstr(err.message, "range"));
+        assert_non_null(strstr(err.message, bad[i].range));
     }
+    /* just inside the open ranges */
+    plm_masking_params p;
+    plm_masking_params_default(&p);
+    p.barbule_inclination = plm_radians(-89.9);
+    p.barbule_rotation = plm_radians(89.9);
+    assert_int_equal(plm_masking_params_validate(&p, NULL), PLM_OK);
 }
 
 int main(void)
@@ -454,8 +531,10 @@ int main(void)
         cmocka_unit_test(barbule_level_has_closed_form),
         cmocka_unit_test(touching_barbules_transmit_nothing),
         cmocka_unit_test(mirror_swaps_proximal_and_distal),
+        cmocka_unit_test(mirror_across_the_vane_negates_the_inclination),
+        cmocka_unit_test(full_masking_composes_the_levels_through_the_row_frames),
         cmocka_unit_test(random_and_degenerate_views_give_valid_results),
-        cmocka_unit_test(barbule_frames_are_orthonormal),
+        cmocka_unit_test(barbule_frames_are_rows_rooted_along_the_barb),
         cmocka_unit_test(weights_are_continuous_along_view_sweeps),
         cmocka_unit_test(barb_level_matches_plain_ray_casting),
         cmocka_unit_test(validation_names_the_field_and_range),

@@ -152,7 +152,7 @@ static void feather_material_fields(void **state)
                "           \"medulla_reflectance\": [0.1, 0.2, 0.9], \"lobes\": 7},\n"
                "  \"barbule\": {\"eccentricity\": 2},\n"
                "  \"masking\": {\"barb_eccentricity\": 3, \"barbule_eccentricity\": 1.5, \"barbule_length\": 2,\n"
-               "              \"barbule_separation\": 0.3, \"barbule_rotation\": 40, \"barbule_inclination\": 30}}}}");
+               "              \"barbule_separation\": 0.3, \"barbule_rotation\": 40, \"barbule_inclination\": -30}}}}");
     plm_scene s;
     plm_error err;
     if (load("feather/material.json", &s, &err) != PLM_OK)
@@ -173,7 +173,7 @@ static void feather_material_fields(void **state)
     plm_feather_params_default(&def);
     assert_double_near(p->barbule.eta, def.barbule.eta, 0);
     assert_double_near(p->masking.barbule_rotation, plm_radians(40.0), 1e-15);
-    assert_double_near(p->masking.barbule_inclination, plm_radians(30.0), 1e-15);
+    assert_double_near(p->masking.barbule_inclination, plm_radians(-30.0), 1e-15);
     assert_double_near(p->masking.barbule_separation, 0.3, 0);
     assert_int_equal(m->texture.width, 4);
     plm_scene_free(&s);
@@ -233,6 +233,8 @@ static void errors_name_file_field_and_allowed_values(void **state)
                  (const char *const[]){"materials.f.barbule.lobes", "[1, 32]", NULL});
     expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"masking\": {\"barbule_rotation\": 100}}}}",
                  (const char *const[]){"materials.f.masking.barbule_rotation", "[0, 90]", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"masking\": {\"barbule_inclination\": 90}}}}",
+                 (const char *const[]){"materials.f.masking", "barbule_inclination", "(-90, 90)", NULL});
     expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"barb\": {\"beta\": 3}}}}",
                  (const char *const[]){"materials.f.barb.beta", "unknown field", "beta_m", NULL});
     expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"reflectance\": [1, 1, 1]}}}",
