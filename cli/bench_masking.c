@@ -1,5 +1,8 @@
 /* plumage bench masking: single-thread nanoseconds per full masking call
- * (plm_masking_eval) over random view directions, for three parameter sets. */
+ * (plm_masking_eval, and plm_masking_eval_prepared with the view-independent
+ * work done once) over random view directions, for three parameter sets; and
+ * what the feather BSDF spends per filter candidate (plm_feather_transmission)
+ * and per shading point (plm_feather_prepare, fiber lobes included). */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -7,14 +10,20 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/rng.h"
+#include "render/feather_bsdf.h"
 #include "render/masking.h"
 
 #define DIRECTIONS 4096
 
+enum { TIME_EVAL, TIME_PREPARED, TIME_FEATHER_TRANSMISSION, TIME_FEATHER_PREPARE };
+
 typedef struct bench_ctx {
     plm_masking_params params;
     plm_masking_model model;
-    int prepared; /* time plm_masking_eval_prepared instead of plm_masking_eval */
+    plm_feather_params feather;
+    frame barb; /* a tilted barb frame in world space */
+    plm_rng rng;
+    int what; /* TIME_... */
     vec3 dirs[DIRECTIONS];
     double sink; /* keeps the calls from being optimised away */
 } bench_ctx;
@@ -26,10 +35,19 @@ static void body(void *arg, long calls)
     for (long i = 0; i < calls; ++i) {
         plm_masking m;
         vec3 wo = c->dirs[i & (DIRECTIONS - 1)];
-        if (c->prepared)
+        if (c->what == TIME_PREPARED) {
             plm_masking_eval_prepared(&c->model, wo, &m);
-        else
+        } else if (c->what == TIME_EVAL) {
             plm_masking_eval(&c->params, wo, &m);
+        } else if (c->what == TIME_FEATHER_TRANSMISSION) {
+            acc += plm_feather_transmission(&c->feather, &c->barb, wo);
+            continue;
+        } else {
+            plm_feather_bsdf f;
+            plm_feather_prepare(&c->feather, &c->barb, wo, rgb_gray(1.0), &c->rng, &f);
+            acc += f.weight[0] + f.set[1].total;
+            continue;
+        }
         acc += m.w_barb + m.barb[0].hmin;
     }
     c->sink += acc;
@@ -73,12 +91,27 @@ int bench_masking(int argc, char **argv)
         c->params.barbule_length = sets[k].l;
         c->params.barbule_inclination = plm_radians(sets[k].theta_deg);
         plm_masking_prepare(&c->params, &c->model);
-        c->prepared = 0;
+        c->what = TIME_EVAL;
         double ns = plm_bench_ns_per_call(body, c, calls, runs);
-        c->prepared = 1;
+        c->what = TIME_PREPARED;
         double ns_prepared = plm_bench_ns_per_call(body, c, calls, runs);
         printf("  %-44s %8.1f ns per plm_masking_eval, %8.1f ns prepared\n", sets[k].name, ns, ns_prepared);
     }
+    /* The feather BSDF with Fig. 9 set 2's masking on a barb frame tilted
+     * away from the world axes; a tenth of the calls for the lobe tracing. */
+    plm_feather_params_default(&c->feather);
+    c->feather.masking.barbule_length = 3.0;
+    c->feather.masking.barbule_inclination = plm_radians(45.0);
+    c->barb.y = v3_normalize(v3(0.3, 0.9, 0.2));
+    c->barb.z = v3_normalize(v3_cross(c->barb.y, v3(1.0, 0.0, 0.0)));
+    c->barb.x = v3_cross(c->barb.y, c->barb.z);
+    plm_rng_seed(&c->rng, 7, 1);
+    c->what = TIME_FEATHER_TRANSMISSION;
+    double ns_transmission = plm_bench_ns_per_call(body, c, calls, runs);
+    c->what = TIME_FEATHER_PREPARE;
+    double ns_prepare = plm_bench_ns_per_call(body, c, calls / 10 > 1000 ? calls / 10 : 1000, runs);
+    printf("feather BSDF (Fig. 9 set 2 masking): %8.1f ns per plm_feather_transmission (filter candidate), "
+           "%8.1f ns per plm_feather_prepare (shading point)\n", ns_transmission, ns_prepare);
     free(c);
     return 0;
 }
