@@ -45,7 +45,7 @@ static void body(void *arg, long calls)
         } else {
             plm_feather_bsdf f;
             plm_feather_prepare(&c->feather, &c->barb, wo, rgb_gray(1.0), &c->rng, &f);
-            acc += f.weight[0] + f.set[1].total;
+            acc += f.weight[0] + f.pick[1];
             continue;
         }
         acc += m.w_barb + m.barb[0].hmin;
