@@ -13,9 +13,9 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "common/rng.h"
 #include "render/feather_bsdf.h"
 #include "render/render.h"
+#include "render/scene_build.h"
 #include "scene/feathers.h"
 
 /* The analytic vane texture of presets/scenes/vane_texture.png: an ogive
@@ -62,14 +62,8 @@ static plm_light sky_light(void)
 }
 
 /* The feather every scene instances: a generated one (vane and rachis) or
- * the analytic vane quad; its parts and the scale that makes it about one
- * unit long. */
-typedef struct prototype {
-    int count, mesh[2], material[2];
-    double scale;
-} prototype;
-
-static int add_vane_quad(plm_scene *s, prototype *p, plm_error *err)
+ * the analytic vane quad, scaled to about one unit long. */
+static int add_vane_quad(plm_scene *s, plm_tile_feather *p, plm_error *err)
 {
     plm_mesh vane;
     if (plm_shape_quad(0.4, 1.0, 1.5, 32, &vane, err) != PLM_OK)
@@ -86,11 +80,11 @@ static int add_vane_quad(plm_scene *s, prototype *p, plm_error *err)
         return 0;
     }
     plm_feather_params_default(m.feather);
-    *p = (prototype){1, {plm_scene_add_mesh(s, "vane", &vane)}, {plm_scene_add_material(s, &m)}, 1.0};
+    *p = (plm_tile_feather){1, {plm_scene_add_mesh(s, "vane", &vane)}, {plm_scene_add_material(s, &m)}, 1.0};
     return 1;
 }
 
-static int add_species(plm_scene *s, const char *species, prototype *p, plm_error *err)
+static int add_species(plm_scene *s, const char *species, plm_tile_feather *p, plm_error *err)
 {
     plm_feather_cache cache = {0};
     plm_feather_request q = {species, 3, 1024, 0};
@@ -100,20 +94,11 @@ static int add_species(plm_scene *s, const char *species, prototype *p, plm_erro
     if (rc != PLM_OK)
         return 0;
     /* Scale the feather (in millimetres) to a length of about one unit. */
-    *p = (prototype){2,
-                     {parts.mesh[0], parts.mesh[1]},
-                     {parts.material[0], parts.material[1]},
-                     parts.length > 0.0 ? 1.0 / parts.length : 1.0};
+    *p = (plm_tile_feather){2,
+                            {parts.mesh[0], parts.mesh[1]},
+                            {parts.material[0], parts.material[1]},
+                            parts.length > 0.0 ? 1.0 / parts.length : 1.0};
     return 1;
-}
-
-static void place(plm_scene *s, const prototype *p, const plm_xform *x, rgb tint)
-{
-    plm_xform scale = plm_xform_scale(v3(p->scale, p->scale, p->scale)), xs = plm_xform_compose(x, &scale);
-    for (int k = 0; k < p->count; ++k) {
-        plm_instance in = {p->mesh[k], p->material[k], xs, tint};
-        plm_scene_add_instance(s, &in);
-    }
 }
 
 static int build_scene(plm_scene *s, int feathers, int width, int height, const char *species, int diffuse,
@@ -123,7 +108,7 @@ static int build_scene(plm_scene *s, int feathers, int width, int height, const 
     s->film.width = width;
     s->film.height = height;
     s->film.max_depth = 16;
-    prototype proto;
+    plm_tile_feather proto;
     if (!(species ? add_species(s, species, &proto, err) : add_vane_quad(s, &proto, err)))
         return 0;
     if (diffuse) /* the texture still cuts the vane out */
@@ -132,41 +117,21 @@ static int build_scene(plm_scene *s, int feathers, int width, int height, const 
     if (!sky.image.pixels || plm_scene_add_light(s, &sky) < 0)
         return 0;
     if (feathers == 1) { /* the camera frames the feather's bounds from +z, the dorsal side */
-        plm_xform id = plm_xform_identity();
-        place(s, &proto, &id, rgb_gray(1.0));
+        plm_xform scale = plm_xform_scale(v3(proto.scale, proto.scale, proto.scale));
+        for (int k = 0; k < proto.count; ++k)
+            if (plm_scene_add_object(s, proto.mesh[k], proto.material[k], scale) < 0)
+                return 0;
         return 1;
     }
-    plm_mesh ground;
-    if (plm_shape_quad(40, 40, 0, 1, &ground, err) != PLM_OK)
+    if (plm_scene_add_ground(s, 40.0, rgb_gray(0.3), err) < 0)
         return 0;
-    plm_material g;
-    memset(&g, 0, sizeof g);
-    snprintf(g.name, sizeof g.name, "ground");
-    g.reflectance = rgb_gray(0.3);
-    plm_instance ground_in = {plm_scene_add_mesh(s, "ground", &ground), plm_scene_add_material(s, &g),
-                              plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2), rgb_gray(1.0)};
-    plm_scene_add_instance(s, &ground_in);
-    /* A pelt: a square grid of feathers lying almost flat on the plane, overlapping like tiles,
-     * each turned and tilted a little and tinted, from a fixed seed. */
+    /* A pelt over 8 x 8 units, the grid as fine as the count asks. */
     s->camera.given = 1;
     s->camera.up = v3(0, 1, 0);
     s->camera.position = v3(0, 3.2, 6.0);
     s->camera.look_at = v3(0, 0, 0);
     s->camera.fov = 45;
-    plm_rng rng;
-    plm_rng_seed(&rng, 2500, 1);
-    int side = (int)lround(sqrt((double)feathers));
-    for (int i = 0; i < feathers; ++i) {
-        double gx = (i % side + 0.5) / side - 0.5, gz = (i / side + 0.5) / side - 0.5;
-        plm_xform lay = plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2 + 0.25 + 0.1 * plm_rng_uniform(&rng));
-        plm_xform turn = plm_xform_rotate(v3(0, 1, 0), PLM_PI + 0.4 * (plm_rng_uniform(&rng) - 0.5));
-        plm_xform at = plm_xform_translate(v3(8.0 * gx, 0.05 + 0.1 * plm_rng_uniform(&rng), 8.0 * gz));
-        plm_xform x = plm_xform_compose(&turn, &lay);
-        x = plm_xform_compose(&at, &x);
-        double t = 0.7 + 0.3 * plm_rng_uniform(&rng);
-        place(s, &proto, &x, rgb_make(t, t * 0.9, 0.8));
-    }
-    return 1;
+    return plm_scene_add_feather_tiles(s, &proto, feathers, 8.0 / ceil(sqrt((double)feathers)), 2500);
 }
 
 typedef struct bench_options {

@@ -10,6 +10,7 @@
 #include "assert_double.h"
 
 #include "render/render.h"
+#include "render/scene_build.h"
 #include "test_feather_bsdf_stats.h"
 #include "test_render_stats.h"
 
@@ -100,8 +101,9 @@ static void white_furnace_over_random_feathers(void **state)
     assert_true(albedo_sum / CONFIGS > 0.95);
 }
 
-/* 100 feathers (vane quads with a feather texture cut into an ogive) lying
- * like tiles over a floor, an environment map and a quad light. */
+/* 100 feathers (vane quads with a feather texture whose corners are cut
+ * away) lying like tiles over a floor, as `plumage bench render` lays its
+ * pelt, under a sky and a quad light. */
 static void estimators_agree_on_a_pelt(void **state)
 {
     (void)state;
@@ -115,40 +117,16 @@ static void estimators_agree_on_a_pelt(void **state)
         for (int x = 0; x < 4; ++x)
             if ((x == 0 || x == 3) && (y == 0 || y == 3))
                 m.texture.region[y * 4 + x] = PLM_REGION_BACKGROUND;
-    plm_mesh quad, floor;
+    plm_mesh quad;
     plm_error err;
     assert_int_equal(plm_shape_quad(0.5, 1.0, 1.0, 16, &quad, &err), PLM_OK);
-    assert_int_equal(plm_shape_quad(20, 20, 0, 1, &floor, &err), PLM_OK);
-    int qm = plm_scene_add_mesh(&s, "vane", &quad), fm = plm_scene_add_mesh(&s, "floor", &floor);
-    int fmat = plm_scene_add_material(&s, &m);
-    plm_material grey;
-    memset(&grey, 0, sizeof grey);
-    snprintf(grey.name, sizeof grey.name, "grey");
-    grey.reflectance = rgb_gray(0.4);
-    plm_instance fl = {fm, plm_scene_add_material(&s, &grey), plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2), rgb_gray(1)};
-    plm_scene_add_instance(&s, &fl);
-    for (int i = 0; i < 100; ++i) {
-        plm_xform lay = plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2 + 0.3);
-        plm_xform turn = plm_xform_rotate(v3(0, 1, 0), uniform(&rng, -0.3, 0.3));
-        plm_xform at = plm_xform_translate(v3(0.3 * (i % 10) - 1.35, 0.1 + 0.05 * plm_rng_uniform(&rng), 0.3 * (i / 10) - 1.35));
-        plm_xform x = plm_xform_compose(&turn, &lay);
-        x = plm_xform_compose(&at, &x);
-        plm_instance in = {qm, fmat, x, rgb_make(1.0, uniform(&rng, 0.6, 1.0), 0.9)};
-        plm_scene_add_instance(&s, &in);
-    }
-    plm_light q;
-    memset(&q, 0, sizeof q);
-    q.type = PLM_LIGHT_QUAD;
-    q.corner = v3(-1, 3, -1);
-    q.edge_u = v3(2, 0, 0);
-    q.edge_v = v3(0, 0, 2);
-    q.radiance = rgb_gray(3.0);
-    plm_scene_add_light(&s, &q);
-    plm_light sky;
-    memset(&sky, 0, sizeof sky);
-    sky.type = PLM_LIGHT_CONSTANT_ENV;
-    sky.radiance = rgb_make(0.3, 0.4, 0.5);
-    plm_scene_add_light(&s, &sky);
+    plm_tile_feather vane = {1, {plm_scene_add_mesh(&s, "vane", &quad)}, {plm_scene_add_material(&s, &m)}, 1.0};
+    assert_true(plm_scene_add_ground(&s, 20.0, rgb_gray(0.4), &err) >= 0);
+    assert_true(plm_scene_add_feather_tiles(&s, &vane, 100, 0.3, 9));
+    plm_light lights[2] = {plm_quad_light(v3(-1, 3, -1), v3(2, 0, 0), v3(0, 0, 2), rgb_gray(3.0)),
+                           plm_constant_sky(rgb_make(0.3, 0.4, 0.5))};
+    for (int i = 0; i < 2; ++i)
+        assert_true(plm_scene_add_light(&s, &lights[i]) >= 0);
     s.camera = (plm_camera_desc){v3(0, 2.5, 3.5), v3(0, 0, 0), v3(0, 1, 0), 45, 0, 0, 1};
     s.film.width = 64, s.film.height = 48;
     plm_world w;

@@ -16,6 +16,7 @@
 
 #include "render/feather_bsdf.h"
 #include "render/render.h"
+#include "render/scene_build.h"
 #include "test_feather_bsdf_stats.h"
 #include "test_render_stats.h"
 
@@ -208,8 +209,7 @@ static void add_feather_sheet(plm_scene *s, const plm_feather_params *p, double 
     assert_int_equal(plm_shape_quad(2.0, 2.0, curl, 32, &mesh, &err), PLM_OK);
     int mi = plm_scene_add_mesh(s, "vane", &mesh);
     plm_material m = feather_material(p, plm_radians(60.0));
-    plm_instance in = {mi, plm_scene_add_material(s, &m), x, rgb_gray(1.0)};
-    assert_true(plm_scene_add_instance(s, &in) >= 0);
+    assert_true(plm_scene_add_object(s, mi, plm_scene_add_material(s, &m), x) >= 0);
 }
 
 /* Feathers (curled, seen from both sides) in a uniform white sky: radiance 1
@@ -221,11 +221,8 @@ static void furnace_scene(void **state)
     plm_scene_init(&s);
     plm_feather_params p = clear_params(0);
     add_feather_sheet(&s, &p, 1.2, plm_xform_identity());
-    plm_light sky;
-    memset(&sky, 0, sizeof sky);
-    sky.type = PLM_LIGHT_CONSTANT_ENV;
-    sky.radiance = rgb_gray(1.0);
-    plm_scene_add_light(&s, &sky);
+    plm_light sky = plm_constant_sky(rgb_gray(1.0));
+    assert_true(plm_scene_add_light(&s, &sky) >= 0);
     s.camera = (plm_camera_desc){v3(0.4, 0.3, 2.5), v3(0, 0, -0.3), v3(0, 1, 0), 30, 0, 0, 1};
     s.film.width = s.film.height = 32;
     plm_world w;
@@ -255,21 +252,11 @@ static void feather_shadows_agree_with_stochastic_passing(void **state)
     plm_mesh floor;
     plm_error err;
     assert_int_equal(plm_shape_quad(6, 6, 0, 1, &floor, &err), PLM_OK);
-    plm_material grey;
-    memset(&grey, 0, sizeof grey);
-    snprintf(grey.name, sizeof grey.name, "grey");
-    grey.reflectance = rgb_gray(0.5);
-    plm_instance fl = {plm_scene_add_mesh(&s, "floor", &floor), plm_scene_add_material(&s, &grey),
-                       plm_xform_identity(), rgb_gray(1.0)};
-    plm_scene_add_instance(&s, &fl);
-    plm_light q;
-    memset(&q, 0, sizeof q);
-    q.type = PLM_LIGHT_QUAD;
-    q.corner = v3(-0.5, -0.5, 1.5);
-    q.edge_u = v3(0, 1, 0);
-    q.edge_v = v3(1, 0, 0);
-    q.radiance = rgb_gray(5.0);
-    plm_scene_add_light(&s, &q);
+    plm_material grey = plm_diffuse_material("grey", rgb_gray(0.5), 0.0);
+    assert_true(plm_scene_add_object(&s, plm_scene_add_mesh(&s, "floor", &floor), plm_scene_add_material(&s, &grey),
+                                     plm_xform_identity()) >= 0);
+    plm_light q = plm_quad_light(v3(-0.5, -0.5, 1.5), v3(0, 1, 0), v3(1, 0, 0), rgb_gray(5.0));
+    assert_true(plm_scene_add_light(&s, &q) >= 0);
     s.camera = (plm_camera_desc){v3(0.0, -1.2, 0.35), v3(0, 0, 0), v3(0, 0, 1), 50, 0, 0, 1};
     s.film.width = s.film.height = 24;
     plm_world w;

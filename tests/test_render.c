@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "render/render.h"
+#include "render/scene_build.h"
 #include "test_render_stats.h"
 
 /* ---------- scene building ---------- */
@@ -37,38 +38,18 @@ static int add_sphere_mesh(plm_scene *s, const char *name, double r)
 
 static int add_diffuse(plm_scene *s, const char *name, rgb reflectance, double transmission)
 {
-    plm_material m;
-    memset(&m, 0, sizeof m);
-    snprintf(m.name, sizeof m.name, "%s", name);
-    m.type = PLM_MATERIAL_DIFFUSE;
-    m.reflectance = reflectance;
-    m.transmission = transmission;
+    plm_material m = plm_diffuse_material(name, reflectance, transmission);
     return plm_scene_add_material(s, &m);
 }
 
 static void add_object(plm_scene *s, int mesh, int material, plm_xform x)
 {
-    plm_instance in = {mesh, material, x, rgb_gray(1.0)};
-    assert_true(plm_scene_add_instance(s, &in) >= 0);
-}
-
-/* A quad of the xy plane turned to face +y at height y. */
-static plm_xform floor_at(double y)
-{
-    plm_xform r = plm_xform_rotate(v3(1, 0, 0), -PLM_PI / 2), t = plm_xform_translate(v3(0, y, 0));
-    return plm_xform_compose(&t, &r);
+    assert_true(plm_scene_add_object(s, mesh, material, x) >= 0);
 }
 
 static void add_light(plm_scene *s, plm_light l) { assert_true(plm_scene_add_light(s, &l) >= 0); }
 
-static plm_light constant_env(double radiance)
-{
-    plm_light l;
-    memset(&l, 0, sizeof l);
-    l.type = PLM_LIGHT_CONSTANT_ENV;
-    l.radiance = rgb_gray(radiance);
-    return l;
-}
+static plm_light constant_env(double radiance) { return plm_constant_sky(rgb_gray(radiance)); }
 
 static void look(plm_scene *s, vec3 from, vec3 at, vec3 up, double fov, int width, int height, int spp)
 {
@@ -100,7 +81,7 @@ static void diffuse_plane_under_constant_sky(void **state)
     plm_scene s;
     plm_scene_init(&s);
     rgb albedo = rgb_make(0.8, 0.5, 0.2);
-    add_object(&s, add_quad_mesh(&s, "floor", 200, 200, 0), add_diffuse(&s, "d", albedo, 0.0), floor_at(0));
+    add_object(&s, add_quad_mesh(&s, "floor", 200, 200, 0), add_diffuse(&s, "d", albedo, 0.0), plm_xform_floor(0));
     add_light(&s, constant_env(1.5));
     look(&s, v3(0, 3, 0), v3(0, 0, 0), v3(0, 0, -1), 30, 24, 24, 32);
     plm_world w;
@@ -132,7 +113,7 @@ static void diffuse_plane_under_distant_light(void **state)
     plm_scene s;
     plm_scene_init(&s);
     rgb albedo = rgb_make(0.5, 0.25, 0.75);
-    add_object(&s, add_quad_mesh(&s, "floor", 200, 200, 0), add_diffuse(&s, "d", albedo, 0.0), floor_at(0));
+    add_object(&s, add_quad_mesh(&s, "floor", 200, 200, 0), add_diffuse(&s, "d", albedo, 0.0), plm_xform_floor(0));
     plm_light sun;
     memset(&sun, 0, sizeof sun);
     sun.type = PLM_LIGHT_DISTANT;
@@ -181,20 +162,14 @@ static void lit_room(plm_scene *s, double sheet_transmission)
 {
     plm_scene_init(s);
     add_object(s, add_quad_mesh(s, "floor", 20, 20, 0), add_diffuse(s, "grey", rgb_make(0.6, 0.5, 0.4), 0.0),
-               floor_at(0));
+               plm_xform_floor(0));
     plm_xform ball = plm_xform_translate(v3(0.3, 0.5, 0.0));
     add_object(s, add_sphere_mesh(s, "ball", 0.5), add_diffuse(s, "red", rgb_make(0.7, 0.2, 0.2), 0.0), ball);
     if (sheet_transmission > 0.0) /* a perforated sheet over everything */
         add_object(s, add_quad_mesh(s, "sheet", 4, 4, 0),
-                   add_diffuse(s, "sheet", rgb_gray(0.3), sheet_transmission), floor_at(1.5));
-    plm_light q;
-    memset(&q, 0, sizeof q);
-    q.type = PLM_LIGHT_QUAD;
-    q.corner = v3(-0.6, 2.5, -0.6);
-    q.edge_u = v3(1.2, 0, 0);
-    q.edge_v = v3(0, 0, 1.2); /* edge_u x edge_v points down */
-    q.radiance = rgb_make(4, 4, 3);
-    add_light(s, q);
+                   add_diffuse(s, "sheet", rgb_gray(0.3), sheet_transmission), plm_xform_floor(1.5));
+    /* edge_u x edge_v points down */
+    add_light(s, plm_quad_light(v3(-0.6, 2.5, -0.6), v3(1.2, 0, 0), v3(0, 0, 1.2), rgb_make(4, 4, 3)));
     plm_light sp;
     memset(&sp, 0, sizeof sp);
     sp.type = PLM_LIGHT_SPHERE;
@@ -451,13 +426,7 @@ static void mask_filters_remove_background(void **state)
 static void light_sampling_densities(void **state)
 {
     (void)state;
-    plm_light q;
-    memset(&q, 0, sizeof q);
-    q.type = PLM_LIGHT_QUAD;
-    q.corner = v3(-1, -1, 2);
-    q.edge_u = v3(0, 2, 0);
-    q.edge_v = v3(2, 0, 0); /* faces -z, toward the origin */
-    q.radiance = rgb_gray(1.0);
+    plm_light q = plm_quad_light(v3(-1, -1, 2), v3(0, 2, 0), v3(2, 0, 0), rgb_gray(1.0)); /* faces -z, toward the origin */
     plm_render_light rl;
     plm_error err;
     assert_int_equal(plm_render_light_init(&q, &rl, &err), PLM_OK);
@@ -509,15 +478,10 @@ static void lights_hide_what_lies_behind_them(void **state)
     (void)state;
     plm_scene s;
     plm_scene_init(&s);
-    add_object(&s, add_quad_mesh(&s, "floor", 50, 50, 0), add_diffuse(&s, "d", rgb_gray(0.8), 0.0), floor_at(0));
+    add_object(&s, add_quad_mesh(&s, "floor", 50, 50, 0), add_diffuse(&s, "d", rgb_gray(0.8), 0.0), plm_xform_floor(0));
     add_light(&s, constant_env(1.0));
-    plm_light q;
-    memset(&q, 0, sizeof q);
-    q.type = PLM_LIGHT_QUAD;
-    q.corner = v3(-2, 0.6, -2);
-    q.edge_u = v3(4, 0, 0);
-    q.edge_v = v3(0, 0, 4); /* faces down, radiance 0: a dark ceiling */
-    add_light(&s, q);
+    /* faces down, radiance 0: a dark ceiling */
+    add_light(&s, plm_quad_light(v3(-2, 0.6, -2), v3(4, 0, 0), v3(0, 0, 4), rgb_gray(0.0)));
     look(&s, v3(0, 0.5, 0.5), v3(0, 0, 0), v3(0, 1, 0), 40, 16, 16, 1);
     plm_world w;
     plm_error err;
