@@ -61,7 +61,7 @@ done
 expect_ok "bcsdf help" "$PLUMAGE" probe bcsdf --help
 "$PLUMAGE" probe bcsdf --out plot --width 64 --sets 200 --eccentricity 1.6 --sigma-a 0.1,0.5,1 >out.txt 2>err.txt
 check "bcsdf succeeds" test $? -eq 0
-check "bcsdf writes the PNG" test -s plot/bcsdf.png
+expect_image "bcsdf writes the PNG" 64 32 plot/bcsdf.png
 check "bcsdf CSV has one row per pixel" test "$(tail -n +2 plot/bcsdf.csv | wc -l)" -eq $((64 * 32))
 check "bcsdf prints the albedo" grep -Eq "^bcsdf,0\.[0-9]+,0\.[0-9]+,0\.[0-9]+$" out.txt
 integral=$(awk -F, 'NR > 1 { r += $3 } END { printf "%.5f", r * (3.14159265358979 / 32) * (6.28318530717959 / 64) }' plot/bcsdf.csv)
@@ -69,7 +69,7 @@ albedo=$(awk -F, '/^bcsdf,/ { printf "%.5f", $2 }' out.txt)
 check "plot integrates to the albedo ($integral vs $albedo)" awk -v a="$integral" -v b="$albedo" 'BEGIN { exit !(a - b < 1e-3 && b - a < 1e-3 && b > 0.3) }'
 "$PLUMAGE" probe bcsdf --figure7 --out fig --width 32 --sets 50 >out.txt 2>err.txt
 check "figure7 succeeds" test $? -eq 0
-check "figure7 contact sheet" test -s fig/figure7.png
+expect_image "figure7 contact sheet" "[0-9]+" "[0-9]+" fig/figure7.png
 check "figure7 CSVs" test -s fig/figure7_circular.csv -a -s fig/figure7_offcentre_medulla.csv
 check "figure7 albedo rows" test "$(grep -c '_medulla,\|^circular,\|^elliptical,' out.txt)" -eq 4
 expect_stderr "bcsdf needs --out" "--out DIR is required" "$PLUMAGE" probe bcsdf

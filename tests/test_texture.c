@@ -361,6 +361,8 @@ static void files_round_trip_and_runs_repeat(void **state)
         assert_int_equal(plm_texture_write(files[k], &f.texture, NULL), PLM_OK);
         assert_int_equal(plm_image_read(files[k], &back.width, &back.height, &back.channels, &back.pixels, NULL),
                          PLM_OK);
+        assert_int_equal(back.width, 256);
+        assert_int_equal(back.height, 256);
         assert_int_equal(back.channels, 3);
         for (size_t i = 0; i < n; ++i)
             assert_double_near(back.pixels[i], f.texture.pixels[i], k ? 0.5 / 65535.0 + 1e-7 : 0.0);
