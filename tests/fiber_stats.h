@@ -67,10 +67,7 @@ static double bcsdf_chi_square(const plm_fiber_bcsdf *b, plm_rng *rng, int n_sam
         assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
         assert_true(fabs(rec.weight.g - f.g * c / pdf) <= 1e-9 * (rec.weight.g + 1e-300));
         double theta = asin(plm_clamp(rec.wi.z, -1.0, 1.0)), phi = atan2(rec.wi.y, rec.wi.x);
-        int it = (int)((theta + 0.5 * PLM_PI) / dt), ip = (int)((phi + PLM_PI) / df);
-        it = it < 0 ? 0 : it >= THETA_BINS ? THETA_BINS - 1 : it;
-        ip = ip < 0 ? 0 : ip >= PHI_BINS ? PHI_BINS - 1 : ip;
-        observed[it * PHI_BINS + ip] += 1.0;
+        observed[chi_square_cell(theta, phi, THETA_BINS, PHI_BINS)] += 1.0;
     }
     for (int it = 0; it < THETA_BINS; ++it)
         for (int ip = 0; ip < PHI_BINS; ++ip) {
