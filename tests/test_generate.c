@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include "assert_double.h"
+#include "test_files.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -20,19 +21,6 @@
 
 static const char *const presets[] = {"remex_pigeon", "covert_parrot", "rectrix_notched", "hackle_pointed"};
 #define PRESET_COUNT 4
-
-static plm_species load_preset(const char *name)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/presets/species/%s.json", PLUMAGE_SOURCE_DIR, name);
-    plm_species sp;
-    plm_error err = {{0}};
-    plm_result rc = plm_species_load(path, &sp, &err);
-    if (rc != PLM_OK)
-        fprintf(stderr, "%s\n", err.message);
-    assert_int_equal(rc, PLM_OK);
-    return sp;
-}
 
 /* The meshes (no textures) of a species. */
 static plm_feather meshes_of(const plm_species *sp)
@@ -477,14 +465,7 @@ static void same_species_same_bytes(void **state)
         plm_feather f = meshes_of(&sp);
         assert_int_equal(plm_mesh_write(names[k], &f.vane, NULL), PLM_OK);
         plm_feather_free(&f);
-        FILE *fp = fopen(names[k], "rb");
-        assert_non_null(fp);
-        fseek(fp, 0, SEEK_END);
-        size[k] = ftell(fp);
-        rewind(fp);
-        bytes[k] = malloc((size_t)size[k]);
-        assert_int_equal(fread(bytes[k], 1, (size_t)size[k], fp), (size_t)size[k]);
-        fclose(fp);
+        bytes[k] = read_whole_file(names[k], &size[k]);
         remove(names[k]);
     }
     assert_int_equal(size[0], size[1]);

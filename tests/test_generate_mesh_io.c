@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include "assert_double.h"
+#include "test_files.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -179,18 +180,11 @@ static void writes_are_reproducible(void **state)
     plm_mesh m = make_grid(1);
     plm_error err = {{0}};
     const char *names[2] = {"mesh_io_a.ply", "mesh_io_b.ply"};
-    char *bytes[2];
+    unsigned char *bytes[2];
     long sizes[2];
     for (int k = 0; k < 2; ++k) {
         assert_int_equal(plm_mesh_write(names[k], &m, &err), PLM_OK);
-        FILE *fp = fopen(names[k], "rb");
-        assert_non_null(fp);
-        fseek(fp, 0, SEEK_END);
-        sizes[k] = ftell(fp);
-        rewind(fp);
-        bytes[k] = malloc((size_t)sizes[k]);
-        assert_int_equal(fread(bytes[k], 1, (size_t)sizes[k], fp), (size_t)sizes[k]);
-        fclose(fp);
+        bytes[k] = read_whole_file(names[k], &sizes[k]);
         remove(names[k]);
     }
     assert_int_equal(sizes[0], sizes[1]);

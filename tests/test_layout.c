@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include "assert_double.h"
+#include "test_files.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -17,19 +18,6 @@
 #include "generate/layout.h"
 #include "generate/outline.h"
 #include "texture/feather.h"
-
-static plm_species load_species(const char *name)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/presets/species/%s.json", PLUMAGE_SOURCE_DIR, name);
-    plm_species sp;
-    plm_error err = {{0}};
-    plm_result rc = plm_species_load(path, &sp, &err);
-    if (rc != PLM_OK)
-        fprintf(stderr, "%s\n", err.message);
-    assert_int_equal(rc, PLM_OK);
-    return sp;
-}
 
 /* The prototypes' meshes at the renderer's default level. */
 static plm_feather *generate_prototypes(const plm_layout *l, const plm_species *const *species)
@@ -142,7 +130,7 @@ static plm_outline *outlines_of(const plm_layout *l)
 static void pelt_counts_roots_and_surface(void **state)
 {
     (void)state;
-    plm_species sp = load_species("covert_parrot");
+    plm_species sp = load_preset("covert_parrot");
     plm_layout l = plane_pelt(&sp, 300, 11);
     assert_int_equal(l.instance_count, 300);
     assert_int_equal(l.prototype_count, 4);
@@ -179,7 +167,7 @@ static void pelt_counts_roots_and_surface(void **state)
 static void pelt_covers_and_shingles(void **state)
 {
     (void)state;
-    plm_species sp = load_species("covert_parrot");
+    plm_species sp = load_preset("covert_parrot");
     plm_layout l = plane_pelt(&sp, 600, 5);
     plm_outline *o = outlines_of(&l);
     int covered = 0, total = 0;
@@ -235,7 +223,7 @@ static void pelt_covers_and_shingles(void **state)
 static void pelt_same_seed_same_instances(void **state)
 {
     (void)state;
-    plm_species sp = load_species("covert_parrot");
+    plm_species sp = load_preset("covert_parrot");
     plm_layout a = plane_pelt(&sp, 200, 3), b = plane_pelt(&sp, 200, 3), c = plane_pelt(&sp, 200, 4);
     assert_same_layout(&a, &b);
     assert_true(memcmp(a.instances, c.instances, sizeof *a.instances * 200) != 0);
@@ -253,7 +241,7 @@ static void pelt_same_seed_same_instances(void **state)
 static void sphere_pelt_and_ball(void **state)
 {
     (void)state;
-    plm_species sp = load_species("covert_parrot");
+    plm_species sp = load_preset("covert_parrot");
     plm_layout_species list[1] = {{&sp, 1.0}};
     const plm_species *plist[1] = {&sp};
     double radius = 0.5;
@@ -325,7 +313,7 @@ static plm_mesh unit_sphere(int rings)
 static void mesh_pelt_follows_the_mesh(void **state)
 {
     (void)state;
-    plm_species sp = load_species("covert_parrot");
+    plm_species sp = load_preset("covert_parrot");
     plm_layout_species list[1] = {{&sp, 1.0}};
     plm_mesh sphere = unit_sphere(64);
     plm_pelt_params p = {0};
@@ -358,7 +346,7 @@ static void mesh_pelt_follows_the_mesh(void **state)
 static void bad_parameters_are_named(void **state)
 {
     (void)state;
-    plm_species sp = load_species("covert_parrot");
+    plm_species sp = load_preset("covert_parrot");
     plm_layout_species list[1] = {{&sp, 1.0}};
     plm_pelt_params p = {0};
     plm_layout l;
@@ -458,7 +446,7 @@ static int is_flight(int row) { return row <= PLM_WING_TERTIAL; }
 static void wing_rows_overlap_in_order(void **state)
 {
     (void)state;
-    plm_species remex = load_species("remex_pigeon"), covert = load_species("covert_parrot");
+    plm_species remex = load_preset("remex_pigeon"), covert = load_preset("covert_parrot");
     const plm_species *rows[PLM_WING_ROWS] = {&remex, &remex, &remex, &covert, &covert, &covert, &covert};
     plm_layout l = make_wing(rows, 0.0, 1);
     plm_feather *f = generate_prototypes(&l, rows);
@@ -508,7 +496,7 @@ static void wing_rows_overlap_in_order(void **state)
 static void wing_rows_and_ramps(void **state)
 {
     (void)state;
-    plm_species remex = load_species("remex_pigeon"), covert = load_species("covert_parrot");
+    plm_species remex = load_preset("remex_pigeon"), covert = load_preset("covert_parrot");
     const plm_species *rows[PLM_WING_ROWS] = {&remex, &remex, NULL, &covert, &covert, &covert, &covert};
     plm_layout l = make_wing(rows, 0.0, 2);
     int count[PLM_WING_ROWS] = {0};

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include "assert_double.h"
+#include "test_files.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -17,16 +18,6 @@
 #include "texture/feather.h"
 #include "texture/preview.h"
 #include "texture/texture.h"
-
-static plm_species load_preset(const char *name)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/presets/species/%s.json", PLUMAGE_SOURCE_DIR, name);
-    plm_species sp;
-    plm_error err = {{0}};
-    assert_int_equal(plm_species_load(path, &sp, &err), PLM_OK);
-    return sp;
-}
 
 static plm_feather textures_of(const plm_species *sp, int size)
 {
