@@ -6,6 +6,7 @@
 int cmd_probe(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_render(int argc, char **argv);
+int cmd_batch(int argc, char **argv);
 int cmd_generate(int argc, char **argv);
 int cmd_texture(int argc, char **argv);
 int bench_generate(int argc, char **argv);

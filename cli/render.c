@@ -3,8 +3,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_job.h"
@@ -16,13 +16,6 @@ static void on_sigint(int sig)
 {
     (void)sig;
     interrupted = 1;
-}
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* "dir/name.json" -> "name" + ext, in the working directory. */
@@ -49,15 +42,20 @@ static void choose_outputs(plm_render_job *job, const plm_film_desc *fd)
     }
 }
 
+static int job_failed(plm_render_job *job, const plm_error *err)
+{
+    snprintf(job->error, sizeof job->error, "%s", err->message);
+    fprintf(stderr, "error: %s\n", err->message);
+    return 1;
+}
+
 int plm_render_job_run(plm_render_job *job)
 {
     plm_error err = {{0}};
     plm_scene scene;
-    double t0 = now_seconds();
-    if (plm_scene_load_with(job->scene, job->sets, job->n_sets, &scene, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        return 1;
-    }
+    double t0 = plm_bench_seconds();
+    if (plm_scene_load_with(job->scene, job->sets, job->n_sets, &scene, &err) != PLM_OK)
+        return job_failed(job, &err);
     if (job->width > 0) {
         scene.film.width = job->width;
         scene.film.height = job->height;
@@ -72,22 +70,21 @@ int plm_render_job_run(plm_render_job *job)
     ro.progress = job->progress;
     ro.cancel = job->cancel;
     plm_film film;
-    double t1 = now_seconds();
+    double t1 = plm_bench_seconds();
     if (plm_render(&scene, &ro, &film, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
         plm_scene_free(&scene);
-        return 1;
+        return job_failed(job, &err);
     }
-    double t2 = now_seconds();
+    double t2 = plm_bench_seconds();
     int status = 0;
     double exposure = job->exposure_given ? job->exposure : scene.film.exposure;
-    if (plm_film_write(&film, job->exr, job->png, exposure, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        status = 1;
-    }
+    if (film.interrupted && job->discard_interrupted)
+        job->png[0] = job->exr[0] = '\0';
+    else if (plm_film_write(&film, job->exr, job->png, exposure, &err) != PLM_OK)
+        status = job_failed(job, &err);
     job->load_seconds = t1 - t0;
     job->render_seconds = t2 - t1;
-    job->write_seconds = now_seconds() - t2;
+    job->write_seconds = plm_bench_seconds() - t2;
     job->out_width = film.width;
     job->out_height = film.height;
     job->out_spp = job->spp > 0 ? job->spp : scene.film.spp;

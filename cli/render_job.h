@@ -21,6 +21,7 @@ typedef struct plm_render_job {
     double exposure;
     char png[PLM_PATH_MAX], exr[PLM_PATH_MAX]; /* both "": the scene's film.png/exr (see plm_render_job_run) */
     volatile sig_atomic_t *cancel;
+    int discard_interrupted; /* batch jobs: a cancelled render writes no image */
     /* outputs */
     int out_width, out_height, out_spp;
     unsigned long long out_seed;
@@ -29,6 +30,7 @@ typedef struct plm_render_job {
     double load_seconds;   /* reading the scene, generating its feathers */
     double render_seconds; /* building the world and sampling */
     double write_seconds;
+    char error[1024]; /* the message of a failure ("" on success) */
 } plm_render_job;
 
 /* Runs the job; messages go to stderr. Returns the exit status: 0, 1 on

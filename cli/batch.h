@@ -1,0 +1,75 @@
+/* plumage batch: the parts shared by the local runner, single jobs, the
+ * status and report, and the Slurm submission. Every job owns a folder
+ * under the output folder; what is in it says how far the job got:
+ *   summary.json  written last, atomically: the job is done (if its key and
+ *                 output hashes still match)
+ *   failed.json   the job ran and failed (the message, the exit status)
+ *   started.json  the job started and never finished (killed)
+ * docs/batch.md describes the layout. */
+#ifndef PLUMAGE_CLI_BATCH_H
+#define PLUMAGE_CLI_BATCH_H
+
+#include <stddef.h>
+
+#include "batch/manifest.h"
+#include "render/scene.h"
+
+typedef struct plm_batch {
+    char manifest_path[PLM_PATH_MAX]; /* absolute: tasks may run elsewhere */
+    char out[PLM_PATH_MAX - 256];     /* absolute output folder (room for job and file names) */
+    plm_manifest m;
+} plm_batch;
+
+typedef enum plm_job_state {
+    PLM_JOB_MISSING = 0, /* never started, or its summary is for other inputs */
+    PLM_JOB_KILLED,      /* started, never finished */
+    PLM_JOB_FAILED,
+    PLM_JOB_DONE
+} plm_job_state;
+
+extern const char *const plm_job_state_names[]; /* "missing", "killed", "failed", "done" */
+
+typedef struct plm_job_status {
+    plm_job_state state;
+    char runner[64];    /* "local" or "slurm <job>_<task>", from the newest record */
+    char message[512];  /* failed: why; killed: when it started */
+    double seconds;     /* done: total time */
+} plm_job_status;
+
+/* A job's folder: out/<job name>/<file> (file may be ""); 0 if it does not fit. */
+int plm_batch_job_path(const plm_batch *b, int job, const char *file, char *out, size_t size);
+
+/* Reads the job's folder (see above). */
+void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st);
+
+/* Runs one job in this process (`--job N`): the job's folder is cleaned of
+ * temporaries and stale records, the images and summary written. Returns
+ * the exit status; SIGTERM or SIGINT stop the render and fail the job. */
+int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet);
+
+/* Reads every job's state; writes report.json and, for a sweep, the labelled
+ * contact sheet. Prints the failures. Returns the number of jobs not done. */
+int plm_batch_gather(const plm_batch *b, int quiet);
+
+/* Prints every job's state (from the output folder alone); returns the number not done. */
+int plm_batch_print_status(const plm_batch *b);
+
+typedef struct plm_slurm_options {
+    const char *partition, *time, *mem;
+    int cpus_per_task;
+    const char *const *sbatch_args; /* passed through verbatim, one #SBATCH line each */
+    int n_sbatch_args;
+    int print_only;
+} plm_slurm_options;
+
+/* Writes the array and gather scripts for the jobs not done and submits
+ * them (or prints them). Returns the exit status. */
+int plm_batch_slurm(const plm_batch *b, const plm_slurm_options *opt);
+
+/* The running executable's absolute path (children and tasks run the same binary). */
+int plm_batch_self_path(char *out, size_t size);
+
+/* Writes a JSON document atomically. */
+int plm_batch_write_json(const char *path, const void *cjson_doc);
+
+#endif

@@ -1,0 +1,350 @@
+/* One batch job in this process, and what a job's folder says about it. */
+#include <dirent.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli/batch.h"
+#include "cli/bench.h"
+#include "cli/render_job.h"
+#include "common/fileio.h"
+#include "common/json.h"
+
+const char *const plm_job_state_names[] = {"missing", "killed", "failed", "done"};
+
+/* The images every job writes, in its folder. */
+static const char *const outputs[] = {"image.png", "image.exr"};
+#define N_OUTPUTS 2
+
+int plm_batch_job_path(const plm_batch *b, int job, const char *file, char *out, size_t size)
+{
+    const char *name = b->m.jobs[job].name;
+    size_t n = strlen(b->out), k = strlen(name), f = strlen(file);
+    if (n + k + f + 3 > size) {
+        out[0] = '\0';
+        return 0;
+    }
+    memcpy(out, b->out, n);
+    out[n] = '/';
+    memcpy(out + n + 1, name, k + 1);
+    if (f) {
+        out[n + 1 + k] = '/';
+        memcpy(out + n + k + 2, file, f + 1);
+    }
+    return 1;
+}
+
+int plm_batch_self_path(char *out, size_t size)
+{
+    ssize_t n = readlink("/proc/self/exe", out, size - 1);
+    if (n <= 0 || (size_t)n >= size - 1) {
+        fprintf(stderr, "error: cannot find the plumage executable (/proc/self/exe)\n");
+        return 0;
+    }
+    out[n] = '\0';
+    return 1;
+}
+
+int plm_batch_write_json(const char *path, const void *cjson_doc)
+{
+    plm_error err;
+    plm_atomic_file f;
+    char *text = cJSON_Print(cjson_doc);
+    if (!text || plm_atomic_open(&f, path, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", text ? err.message : "out of memory");
+        free(text);
+        return 0;
+    }
+    fprintf(f.fp, "%s\n", text);
+    free(text);
+    if (plm_atomic_commit(&f, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+/* Size and FNV-1a hash of a file as "bytes" and "fnv1a64"; 0 if unreadable. */
+static int hash_file(const char *path, long long *bytes, char hex[17])
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return 0;
+    unsigned char buf[1 << 16];
+    uint64_t h = PLM_FNV_OFFSET;
+    size_t n;
+    *bytes = 0;
+    while ((n = fread(buf, 1, sizeof buf, fp)) > 0) {
+        h = plm_fnv1a64(buf, n, h);
+        *bytes += (long long)n;
+    }
+    int ok = !ferror(fp);
+    fclose(fp);
+    snprintf(hex, 17, "%016llx", (unsigned long long)h);
+    return ok;
+}
+
+static void key_hex(const plm_batch_job *job, char hex[17])
+{
+    snprintf(hex, 17, "%016llx", (unsigned long long)job->key);
+}
+
+/* Where this process runs: "local", or "slurm <array job>_<task>". */
+static void runner_name(char *out, size_t size)
+{
+    const char *job = getenv("SLURM_ARRAY_JOB_ID"), *task = getenv("SLURM_ARRAY_TASK_ID");
+    const char *plain = getenv("SLURM_JOB_ID");
+    if (job && task)
+        snprintf(out, size, "slurm %s_%s", job, task);
+    else if (plain)
+        snprintf(out, size, "slurm %s", plain);
+    else
+        snprintf(out, size, "local");
+}
+
+static void utc_now(char *out, size_t size)
+{
+    time_t t = time(NULL);
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(out, size, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+/* The fields every record of a job carries: which job, where, when. */
+static cJSON *record(const plm_batch *b, int job, const char *state)
+{
+    char runner[64], host[256] = "", when[32];
+    runner_name(runner, sizeof runner);
+    gethostname(host, sizeof host - 1);
+    utc_now(when, sizeof when);
+    cJSON *doc = cJSON_CreateObject();
+    cJSON_AddStringToObject(doc, "state", state);
+    cJSON_AddNumberToObject(doc, "job", job);
+    cJSON_AddStringToObject(doc, "name", b->m.jobs[job].name);
+    cJSON_AddStringToObject(doc, "runner", runner);
+    cJSON_AddStringToObject(doc, "host", host);
+    cJSON_AddNumberToObject(doc, "pid", (double)getpid());
+    cJSON_AddStringToObject(doc, "time", when);
+    return doc;
+}
+
+static const char *string_field(const cJSON *doc, const char *key)
+{
+    const cJSON *s = cJSON_GetObjectItemCaseSensitive(doc, key);
+    return cJSON_IsString(s) ? s->valuestring : "";
+}
+
+/* Loads out/<job>/<file> if it is a JSON object for this job. */
+static cJSON *load_record(const plm_batch *b, int job, const char *file)
+{
+    char path[PLM_PATH_MAX];
+    plm_batch_job_path(b, job, file, path, sizeof path);
+    if (access(path, F_OK) != 0)
+        return NULL;
+    cJSON *doc = NULL;
+    if (plm_json_load(path, &doc, NULL) != PLM_OK || !cJSON_IsObject(doc) ||
+        strcmp(string_field(doc, "name"), b->m.jobs[job].name) != 0) {
+        cJSON_Delete(doc);
+        return NULL;
+    }
+    return doc;
+}
+
+/* A summary counts if it is for these inputs and every output still has its recorded hash. */
+static int summary_is_complete(const plm_batch *b, int job, const cJSON *summary)
+{
+    char key[17];
+    key_hex(&b->m.jobs[job], key);
+    if (strcmp(string_field(summary, "state"), "done") != 0 || strcmp(string_field(summary, "key"), key) != 0)
+        return 0;
+    const cJSON *files = cJSON_GetObjectItemCaseSensitive(summary, "outputs");
+    if (!cJSON_IsObject(files) || !files->child)
+        return 0;
+    for (const cJSON *f = files->child; f; f = f->next) {
+        char path[PLM_PATH_MAX], hex[17];
+        long long bytes;
+        plm_batch_job_path(b, job, f->string, path, sizeof path);
+        const cJSON *size = cJSON_GetObjectItemCaseSensitive(f, "bytes");
+        if (!hash_file(path, &bytes, hex) || !cJSON_IsNumber(size) || size->valuedouble != (double)bytes ||
+            strcmp(string_field(f, "fnv1a64"), hex) != 0)
+            return 0;
+    }
+    return 1;
+}
+
+void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st)
+{
+    memset(st, 0, sizeof *st);
+    static const char *const files[] = {"summary.json", "failed.json", "started.json"};
+    static const plm_job_state states[] = {PLM_JOB_DONE, PLM_JOB_FAILED, PLM_JOB_KILLED};
+    for (int i = 0; i < 3 && st->state == PLM_JOB_MISSING; ++i) {
+        cJSON *doc = load_record(b, job, files[i]);
+        if (!doc || (i == 0 && !summary_is_complete(b, job, doc))) {
+            cJSON_Delete(doc);
+            continue;
+        }
+        st->state = states[i];
+        snprintf(st->runner, sizeof st->runner, "%s", string_field(doc, "runner"));
+        if (i == 0) {
+            const cJSON *s = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "seconds"), "total");
+            st->seconds = cJSON_IsNumber(s) ? s->valuedouble : 0.0;
+        } else if (i == 1) {
+            snprintf(st->message, sizeof st->message, "%s", string_field(doc, "error"));
+        } else {
+            snprintf(st->message, sizeof st->message, "started %s on %s, never finished", string_field(doc, "time"),
+                     string_field(doc, "host"));
+        }
+        cJSON_Delete(doc);
+    }
+}
+
+/* Removes what an earlier, killed run of the job may have left: temporary
+ * files (".name.tmpPID-N.ext", see common/fileio.h) and the old records. */
+static void clean_job_folder(const plm_batch *b, int job)
+{
+    char dir[PLM_PATH_MAX], path[PLM_PATH_MAX];
+    plm_batch_job_path(b, job, "", dir, sizeof dir);
+    DIR *d = opendir(dir);
+    for (struct dirent *e = d ? readdir(d) : NULL; e; e = readdir(d))
+        if (e->d_name[0] == '.' && strstr(e->d_name, ".tmp") &&
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name) < (int)sizeof path)
+            remove(path);
+    if (d)
+        closedir(d);
+    static const char *const records[] = {"summary.json", "failed.json", "started.json"};
+    for (int i = 0; i < 3; ++i) {
+        plm_batch_job_path(b, job, records[i], path, sizeof path);
+        remove(path);
+    }
+}
+
+static volatile sig_atomic_t stop_job;
+
+static void on_stop(int sig)
+{
+    (void)sig;
+    stop_job = 1;
+}
+
+static cJSON *string_array(char *const *items, int n)
+{
+    cJSON *a = cJSON_CreateArray();
+    for (int i = 0; i < n; ++i)
+        cJSON_AddItemToArray(a, cJSON_CreateString(items[i]));
+    return a;
+}
+
+static int finish_failed(const plm_batch *b, int job, const char *message, int status)
+{
+    char path[PLM_PATH_MAX];
+    cJSON *doc = record(b, job, "failed");
+    cJSON_AddStringToObject(doc, "error", message);
+    cJSON_AddNumberToObject(doc, "exit", status);
+    plm_batch_job_path(b, job, "failed.json", path, sizeof path);
+    plm_batch_write_json(path, doc);
+    cJSON_Delete(doc);
+    fprintf(stderr, "job %s failed: %s\n", b->m.jobs[job].name, message);
+    return status;
+}
+
+static cJSON *summary_document(const plm_batch *b, int job, const plm_render_job *rj, double total)
+{
+    const plm_batch_job *bj = &b->m.jobs[job];
+    char key[17];
+    key_hex(bj, key);
+    cJSON *doc = record(b, job, "done");
+    cJSON_AddStringToObject(doc, "key", key);
+    cJSON_AddStringToObject(doc, "scene", bj->scene);
+    cJSON_AddItemToObject(doc, "set", string_array(bj->sets, bj->n_sets));
+    cJSON_AddStringToObject(doc, "label", bj->label);
+    cJSON_AddNumberToObject(doc, "width", rj->out_width);
+    cJSON_AddNumberToObject(doc, "height", rj->out_height);
+    cJSON_AddNumberToObject(doc, "spp", rj->out_spp);
+    cJSON_AddNumberToObject(doc, "seed", (double)rj->out_seed);
+    cJSON_AddNumberToObject(doc, "threads", rj->used_threads);
+    cJSON_AddNumberToObject(doc, "samples", (double)rj->samples);
+    cJSON_AddNumberToObject(doc, "nonfinite_samples", (double)rj->nonfinite);
+    cJSON *sec = cJSON_AddObjectToObject(doc, "seconds");
+    cJSON_AddNumberToObject(sec, "load", rj->load_seconds);
+    cJSON_AddNumberToObject(sec, "render", rj->render_seconds);
+    cJSON_AddNumberToObject(sec, "write", rj->write_seconds);
+    cJSON_AddNumberToObject(sec, "total", total);
+    cJSON *files = cJSON_AddObjectToObject(doc, "outputs");
+    for (int i = 0; i < N_OUTPUTS; ++i) {
+        char path[PLM_PATH_MAX], hex[17];
+        long long bytes;
+        plm_batch_job_path(b, job, outputs[i], path, sizeof path);
+        if (!hash_file(path, &bytes, hex)) {
+            cJSON_Delete(doc);
+            return NULL;
+        }
+        cJSON *f = cJSON_AddObjectToObject(files, outputs[i]);
+        cJSON_AddNumberToObject(f, "bytes", (double)bytes);
+        cJSON_AddStringToObject(f, "fnv1a64", hex);
+    }
+    return doc;
+}
+
+int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
+{
+    const plm_batch_job *bj = &b->m.jobs[job];
+    char dir[PLM_PATH_MAX], path[PLM_PATH_MAX];
+    plm_error err;
+    plm_batch_job_path(b, job, "", dir, sizeof dir);
+    if (plm_make_dirs(dir, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        return 1;
+    }
+    clean_job_folder(b, job);
+    double t0 = plm_bench_seconds();
+    cJSON *started = record(b, job, "started");
+    plm_batch_job_path(b, job, "started.json", path, sizeof path);
+    int ok = plm_batch_write_json(path, started);
+    cJSON_Delete(started);
+    if (!ok)
+        return 1;
+
+    plm_render_job rj;
+    memset(&rj, 0, sizeof rj);
+    rj.scene = bj->scene;
+    rj.sets = (const char *const *)bj->sets;
+    rj.n_sets = bj->n_sets;
+    rj.spp = bj->spp;
+    rj.width = bj->width;
+    rj.height = bj->height;
+    rj.seed = bj->seed;
+    rj.max_depth = -1;
+    rj.threads = threads;
+    rj.progress = !quiet;
+    rj.cancel = &stop_job;
+    rj.discard_interrupted = 1;
+    plm_batch_job_path(b, job, outputs[0], rj.png, sizeof rj.png);
+    plm_batch_job_path(b, job, outputs[1], rj.exr, sizeof rj.exr);
+    /* A scheduler stops a task with SIGTERM (time limit, scancel): the render
+     * ends at the next tile and the job records that it failed. */
+    struct sigaction sa, old_term, old_int;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop;
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGTERM, &sa, &old_term);
+    sigaction(SIGINT, &sa, &old_int);
+    int status = plm_render_job_run(&rj);
+    sigaction(SIGTERM, &old_term, NULL);
+    sigaction(SIGINT, &old_int, NULL);
+    if (status != 0)
+        return finish_failed(b, job, rj.interrupted ? "interrupted by a signal (SIGTERM or SIGINT)" : rj.error,
+                             status);
+    double total = plm_bench_seconds() - t0;
+    cJSON *summary = summary_document(b, job, &rj, total);
+    if (!summary)
+        return finish_failed(b, job, "an output image could not be read back for its hash", 1);
+    plm_batch_job_path(b, job, "summary.json", path, sizeof path);
+    ok = plm_batch_write_json(path, summary);
+    cJSON_Delete(summary);
+    return ok ? 0 : finish_failed(b, job, "summary.json could not be written", 1);
+}
