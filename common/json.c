@@ -100,10 +100,17 @@ plm_result plm_json_number(const plm_json_reader *r, const cJSON *obj, const cha
 plm_result plm_json_int(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
                         int def, int lo, int hi, int *out)
 {
-    double v = def;
-    plm_result rc = plm_json_number(r, obj, path, key, def, lo, hi, &v);
-    if (rc != PLM_OK)
-        return rc;
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!item) {
+        *out = def;
+        return PLM_OK;
+    }
+    /* The range printed as integers: [1, 16777216], not [1, 1.67772e+07]. */
+    if (!cJSON_IsNumber(item))
+        return plm_json_fail(r, path, key, "expected a number in [%d, %d]", lo, hi);
+    double v = item->valuedouble;
+    if (!(v >= lo && v <= hi))
+        return plm_json_fail(r, path, key, "%g is out of range [%d, %d]", v, lo, hi);
     if (v != (double)(int)v)
         return plm_json_fail(r, path, key, "%g is not a whole number in [%d, %d]", v, lo, hi);
     *out = (int)v;
