@@ -86,16 +86,61 @@ static int parse_value(const plm_command_help *help, plm_option *o, const char *
     return 0;
 }
 
+/* Help lines are wrapped at HELP_WIDTH columns; a line the text already
+ * breaks by hand is left alone unless it runs past HELP_SLACK. */
+enum { HELP_WIDTH = 100, HELP_SLACK = 112 };
+
+/* Prints text starting at column col, breaking too long lines at spaces
+ * before HELP_WIDTH where the words allow. A continuation starts at column
+ * indent, or under the first word of its line if that is further in; the
+ * text's own newlines and leading spaces are kept. Ends with a newline. */
+static void print_wrapped(FILE *out, const char *text, int col, int indent)
+{
+    int line_indent = indent, words = 0, wrap = 0;
+    for (const char *p = text; *p;) {
+        if (words == 0 && (p == text || p[-1] == '\n'))
+            wrap = col + (int)strcspn(p, "\n") > HELP_SLACK;
+        if (*p == '\n') {
+            fputc('\n', out);
+            col = 0, line_indent = indent, words = 0;
+            ++p;
+        } else if (*p == ' ') {
+            size_t next = strcspn(p + 1, " \n");
+            if (wrap && words > 0 && next > 0 && col + 1 + (int)next > HELP_WIDTH) {
+                fprintf(out, "\n%*s", line_indent, "");
+                col = line_indent;
+            } else {
+                fputc(' ', out);
+                ++col;
+            }
+            ++p;
+        } else {
+            if (words == 0 && col > line_indent)
+                line_indent = col;
+            size_t n = strcspn(p, " \n");
+            fwrite(p, 1, n, out);
+            col += (int)n, ++words;
+            p += n;
+        }
+    }
+    fputc('\n', out);
+}
+
 void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts)
 {
-    fprintf(out, "usage: %s\n\n%s\n\noptions:\n", help->usage, help->summary);
-    for (int i = 0; i < n_opts; ++i) {
+    fprintf(out, "usage: %s\n\n", help->usage);
+    print_wrapped(out, help->summary, 0, 0);
+    fprintf(out, "\noptions:\n");
+    for (int i = 0; i < n_opts + 1; ++i) {
         char left[96];
-        snprintf(left, sizeof left, "%s%s%s", opts[i].name, opts[i].metavar ? " " : "",
-                 opts[i].metavar ? opts[i].metavar : "");
-        fprintf(out, "  %-30s %s\n", left, opts[i].help);
+        if (i < n_opts)
+            snprintf(left, sizeof left, "%s%s%s", opts[i].name, opts[i].metavar ? " " : "",
+                     opts[i].metavar ? opts[i].metavar : "");
+        else
+            snprintf(left, sizeof left, "--help");
+        int col = fprintf(out, "  %-30s ", left);
+        print_wrapped(out, i < n_opts ? opts[i].help : "show this help and exit", col, 33);
     }
-    fprintf(out, "  %-30s %s\n", "--help", "show this help and exit");
 }
 
 int plm_parse_options(const plm_command_help *help, int argc, char **argv, int first, plm_option *opts,
