@@ -18,6 +18,12 @@ for s in "$SPECIES"/*.json; do
         [ -s "out_$name/$f" ] || missing="$missing $f"
     done
     if [ -z "$missing" ]; then pass "$name files"; else fail "$name files missing:$missing"; fi
+    # Level 3 of the control cages (docs/generating.md): the vane's 8 x 24 quads and the rachis
+    # tube's 8 x 24 + 8 quads (one level coarser), each quad split into 4 per level, 2 triangles each.
+    counts="$(grep -a -m1 '^element face' "out_$name/vane.ply") $(grep -c '^f ' "out_$name/vane.obj")"
+    counts="$counts $(grep -a -m1 '^element face' "out_$name/rachis.ply") $(grep -c '^f ' "out_$name/rachis.obj")"
+    want="element face $((2 * 8 * 24 * 64)) $((2 * 8 * 24 * 64)) element face $((2 * 200 * 16)) $((2 * 200 * 16))"
+    if [ "$counts" = "$want" ]; then pass "$name triangle counts"; else fail "$name triangle counts: $counts, want $want"; fi
     expect_image "$name textures" 128 128 "out_$name/texture.exr" "out_$name/texture.png"
     IMAGE_MIN_MEAN=0 expect_image "$name pigment" 128 128 "out_$name/pigment.exr" "out_$name/pigment.png"
 done
