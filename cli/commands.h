@@ -9,6 +9,7 @@ int cmd_render(int argc, char **argv);
 int cmd_batch(int argc, char **argv);
 int cmd_generate(int argc, char **argv);
 int cmd_texture(int argc, char **argv);
+int cmd_params(int argc, char **argv);
 int bench_generate(int argc, char **argv);
 int bench_render(int argc, char **argv);
 int probe_masking(int argc, char **argv);

@@ -15,6 +15,7 @@ static const command commands[] = {
     {"generate", cmd_generate, "build a feather (meshes, textures, scene) from a species preset"},
     {"texture", cmd_texture, "re-author a species' feather and pigment textures alone"},
     {"probe", cmd_probe, "answer questions about the optical models without rendering (CSV and plots)"},
+    {"params", cmd_params, "list the scene format's parameter blocks: fields, defaults, ranges, units"},
     {"render", cmd_render, "render a scene file to a linear EXR and a tone-mapped PNG (path tracer)"},
     {"batch", cmd_batch, "run a manifest of render jobs or a parameter sweep, locally or as a Slurm job array"},
     {"bench", cmd_bench, "print performance figures (ns per call, samples per second, memory)"},

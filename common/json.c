@@ -89,10 +89,10 @@ plm_result plm_json_number(const plm_json_reader *r, const cJSON *obj, const cha
         return PLM_OK;
     }
     if (!cJSON_IsNumber(item))
-        return plm_json_fail(r, path, key, "expected a number in [%g, %g]", lo, hi);
+        return plm_json_fail(r, path, key, "expected a number in [%.10g, %.10g]", lo, hi);
     double v = item->valuedouble;
     if (!(v >= lo && v <= hi))
-        return plm_json_fail(r, path, key, "%g is out of range [%g, %g]", v, lo, hi);
+        return plm_json_fail(r, path, key, "%g is out of range [%.10g, %.10g]", v, lo, hi);
     *out = v;
     return PLM_OK;
 }

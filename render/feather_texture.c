@@ -67,11 +67,17 @@ static long texel_index(const plm_feather_texture *t, long x, long y)
     return y * t->width + x;
 }
 
+long plm_texel_nearest(int width, int height, vec2 uv)
+{
+    plm_feather_texture t = {width, height, NULL, NULL};
+    double x, y;
+    texel_coords(&t, uv, &x, &y);
+    return texel_index(&t, nearest(x), nearest(y));
+}
+
 plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv)
 {
-    double x, y;
-    texel_coords(t, uv, &x, &y);
-    return (plm_region)t->region[texel_index(t, nearest(x), nearest(y))];
+    return (plm_region)t->region[plm_texel_nearest(t->width, t->height, uv)];
 }
 
 /* The (unnormalised) direction stored in texel i. */

@@ -21,6 +21,10 @@ plm_result plm_feather_texture_from_pixels(int width, int height, float *pixels,
                                            plm_error *err);
 void plm_feather_texture_free(plm_feather_texture *t);
 
+/* The texel nearest to uv in an image of this size laid out as the contract
+ * says (top row first, uv = (0, 1) at the top-left corner); its index. */
+long plm_texel_nearest(int width, int height, vec2 uv);
+
 /* Region of the texel nearest to uv (no filtering: regions never blend). */
 plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv);
 

@@ -15,6 +15,7 @@
 #define PLUMAGE_RENDER_FIBER_H
 
 #include "common/error.h"
+#include "common/params.h"
 #include "common/rng.h"
 #include "common/vec.h"
 
@@ -49,6 +50,10 @@ extern const char *const plm_fiber_figure7_names[PLM_FIBER_FIGURE7_VARIANTS];
 /* Checks every field; the message names the field and its allowed range, or
  * says how the medulla pokes out of the cortex. */
 plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err);
+
+/* The fields of a fiber block in files, with their ranges (common/params.h);
+ * validation reads the same table. */
+extern const plm_param_block plm_fiber_param_block;
 
 static inline int plm_fiber_has_medulla(const plm_fiber_params *p) { return p->medulla_a > 0.0; }
 

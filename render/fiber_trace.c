@@ -45,8 +45,6 @@ void plm_fiber_params_figure7(plm_fiber_params *p, int variant)
 
 /* ---- validation ---------------------------------------------------------- */
 
-static int in_range(double v, double lo, double hi) { return v >= lo && v <= hi; } /* false for NaN */
-
 /* The cortex's implicit function x^2 + (y/e)^2 at the medulla's boundary
  * point of parameter t: below 1 inside the cortex. */
 static double cortex_level_at_medulla(const plm_fiber_params *p, double t)
@@ -80,34 +78,33 @@ static double medulla_max_cortex_level(const plm_fiber_params *p)
     return fmax(best, cortex_level_at_medulla(p, 0.5 * (lo + hi)));
 }
 
-static plm_result check(plm_error *err, const char *field, double v, double lo, double hi)
-{
-    if (in_range(v, lo, hi))
-        return PLM_OK;
-    return plm_fail(err, PLM_ERR_INVALID, "fiber: %s = %g is out of range [%g, %g]", field, v, lo, hi);
-}
-
-static plm_result check_rgb(plm_error *err, const char *field, rgb v, double lo, double hi)
-{
-    if (in_range(v.r, lo, hi) && in_range(v.g, lo, hi) && in_range(v.b, lo, hi))
-        return PLM_OK;
-    return plm_fail(err, PLM_ERR_INVALID, "fiber: %s = (%g, %g, %g): each channel must be in [%g, %g]", field,
-                    v.r, v.g, v.b, lo, hi);
-}
+#define FIELD(name, type, member, lo, hi, unit, meaning) \
+    {name, type, offsetof(plm_fiber_params, member), lo, hi, unit, meaning, 0}
+static const plm_param fiber_params[] = {
+    FIELD("eccentricity", PLM_PARAM_NUMBER, eccentricity, 0.01, 100.0, "",
+          "cortex semi-axis along e3 over the one along e2 (1 = circular)"),
+    FIELD("eta", PLM_PARAM_NUMBER, eta, 1.0, 4.0, "", "refractive index of cortex and medulla (keratin 1.55)"),
+    FIELD("sigma_a", PLM_PARAM_RGB, sigma_a, 0.0, 1e4, "1/radius",
+          "pigment absorption per unit path length, in units of the e2 semi-axis"),
+    FIELD("beta_m", PLM_PARAM_ANGLE, beta_m, 0.5, 90.0, "degrees", "longitudinal roughness (detector std-dev)"),
+    FIELD("beta_n", PLM_PARAM_ANGLE, beta_n, 0.5, 90.0, "degrees", "azimuthal roughness (detector std-dev)"),
+    FIELD("medulla_axes", PLM_PARAM_PAIR, medulla_a, 0.0, 100.0, "radius",
+          "medulla semi-axes along e2, e3; [0, 0] = no medulla"),
+    FIELD("medulla_centre", PLM_PARAM_PAIR, medulla_ca, -100.0, 100.0, "radius",
+          "medulla centre; the medulla must lie strictly inside the cortex"),
+    FIELD("medulla_reflectance", PLM_PARAM_RGB, medulla_reflectance, 0.0, 1.0, "",
+          "Lambertian albedo of the medulla (structural white or blue)"),
+    FIELD("lobes", PLM_PARAM_INT, lobes, 1, PLM_FIBER_MAX_LOBES, "",
+          "scattering lobes traced per path (a feather material takes at most 32)"),
+};
+#undef FIELD
+const plm_param_block plm_fiber_param_block = {"fiber", "one fiber (barb or barbule): see docs/fiber.md",
+                                               fiber_params, (int)(sizeof fiber_params / sizeof fiber_params[0])};
 
 plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err)
 {
-    plm_result r;
-    if ((r = check(err, "eccentricity", p->eccentricity, 0.01, 100.0)) ||
-        (r = check(err, "eta", p->eta, 1.0, 4.0)) || (r = check_rgb(err, "sigma_a", p->sigma_a, 0.0, 1e4)) ||
-        (r = check(err, "beta_m (radians)", p->beta_m, plm_radians(0.5), 0.5 * PLM_PI)) ||
-        (r = check(err, "beta_n (radians)", p->beta_n, plm_radians(0.5), 0.5 * PLM_PI)) ||
-        (r = check_rgb(err, "medulla_reflectance", p->medulla_reflectance, 0.0, 1.0)) ||
-        (r = check(err, "lobes", p->lobes, 1, PLM_FIBER_MAX_LOBES)) ||
-        (r = check(err, "medulla_a", p->medulla_a, 0.0, 100.0)) ||
-        (r = check(err, "medulla_b", p->medulla_b, 0.0, 100.0)) ||
-        (r = check(err, "medulla_ca", p->medulla_ca, -100.0, 100.0)) ||
-        (r = check(err, "medulla_cb", p->medulla_cb, -100.0, 100.0)))
+    plm_result r = plm_params_check(&plm_fiber_param_block, p, err);
+    if (r != PLM_OK)
         return r;
     if ((p->medulla_a > 0.0) != (p->medulla_b > 0.0))
         return plm_fail(err, PLM_ERR_INVALID,

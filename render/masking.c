@@ -8,16 +8,7 @@
 #include "render/masking.h"
 
 #include <math.h>
-
-/* Parameter ranges, shared by validation and the documentation
- * (docs/masking.md). Both angles are open intervals: at 0 or 90 degrees of
- * rotation, or +-90 of inclination, barbules lie along the barb or stand
- * upright and the rows of neighbouring barbs never meet. */
-#define MAX_ECCENTRICITY 20.0
-#define MAX_LENGTH 100.0
-#define MAX_SEPARATION 100.0
-#define MAX_INCLINATION_DEG 90.0
-#define MAX_ROTATION_DEG 90.0
+#include <stddef.h>
 
 void plm_masking_params_default(plm_masking_params *p)
 {
@@ -29,38 +20,37 @@ void plm_masking_params_default(plm_masking_params *p)
     p->barbule_inclination = 0.0;
 }
 
-typedef struct range {
-    double lo, hi;
-    int lo_open, hi_open; /* the bound itself is excluded */
-} range;
-
-static plm_result check_range(plm_error *err, const char *name, double v, range r, double shown_scale,
-                              const char *unit)
-{
-    int ok = isfinite(v) && (r.lo_open ? v > r.lo : v >= r.lo) && (r.hi_open ? v < r.hi : v <= r.hi);
-    if (ok)
-        return PLM_OK;
-    return plm_fail(err, PLM_ERR_INVALID, "masking parameter %s = %g%s is out of range %c%g, %g%c%s", name,
-                    v * shown_scale, unit, r.lo_open ? '(' : '[', r.lo * shown_scale, r.hi * shown_scale,
-                    r.hi_open ? ')' : ']', isfinite(v) ? "" : " (not a finite number)");
-}
+/* Both angles are open intervals (docs/masking.md): at 0 or 90 degrees of
+ * rotation, or +-90 of inclination, barbules lie along the barb or stand
+ * upright and the rows of neighbouring barbs never meet. */
+#define OPEN_MIN PLM_PARAM_OPEN_MIN
+#define OPEN_BOTH (PLM_PARAM_OPEN_MIN | PLM_PARAM_OPEN_MAX)
+#define FIELD(name, type, member, lo, hi, unit, meaning, open) \
+    {name, type, offsetof(plm_masking_params, member), lo, hi, unit, meaning, open}
+static const plm_param masking_params[] = {
+    FIELD("barb_eccentricity", PLM_PARAM_NUMBER, barb_eccentricity, 0.0, 20.0, "",
+          "e_b: a barb's extent along the normal over its extent across the vane", OPEN_MIN),
+    FIELD("barbule_eccentricity", PLM_PARAM_NUMBER, barbule_eccentricity, 0.0, 20.0, "",
+          "e_bb: the same for a barbule, in its row's frame", OPEN_MIN),
+    FIELD("barbule_length", PLM_PARAM_NUMBER, barbule_length, 0.0, 100.0, "barb half-widths",
+          "l_bb: barbule length", OPEN_MIN),
+    FIELD("barbule_separation", PLM_PARAM_NUMBER, barbule_separation, 0.0, 100.0, "barbule widths",
+          "delta_bb: the gap between neighbouring barbules", 0),
+    FIELD("barbule_rotation", PLM_PARAM_ANGLE, barbule_rotation, 0.0, 90.0, "degrees",
+          "phi_bb: angle between a barbule and the barb axis", OPEN_BOTH),
+    FIELD("barbule_inclination", PLM_PARAM_ANGLE, barbule_inclination, -90.0, 90.0, "degrees",
+          "theta_bb: tilt of the barbule rows about the barb axis, toward the normal if > 0", OPEN_BOTH),
+};
+#undef FIELD
+#undef OPEN_MIN
+#undef OPEN_BOTH
+const plm_param_block plm_masking_param_block = {
+    "masking", "barb and barbule geometry for masking: see docs/masking.md", masking_params,
+    (int)(sizeof masking_params / sizeof masking_params[0])};
 
 plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err)
 {
-    const double deg = 180.0 / PLM_PI;
-    const range eccentricity = {0.0, MAX_ECCENTRICITY, 1, 0}, length = {0.0, MAX_LENGTH, 1, 0};
-    const range separation = {0.0, MAX_SEPARATION, 0, 0};
-    const range rotation = {0.0, plm_radians(MAX_ROTATION_DEG), 1, 1};
-    const range inclination = {-plm_radians(MAX_INCLINATION_DEG), plm_radians(MAX_INCLINATION_DEG), 1, 1};
-    plm_result r;
-    if ((r = check_range(err, "barb_eccentricity", p->barb_eccentricity, eccentricity, 1.0, "")) ||
-        (r = check_range(err, "barbule_eccentricity", p->barbule_eccentricity, eccentricity, 1.0, "")) ||
-        (r = check_range(err, "barbule_length", p->barbule_length, length, 1.0, "")) ||
-        (r = check_range(err, "barbule_separation", p->barbule_separation, separation, 1.0, "")) ||
-        (r = check_range(err, "barbule_rotation", p->barbule_rotation, rotation, deg, " deg")) ||
-        (r = check_range(err, "barbule_inclination", p->barbule_inclination, inclination, deg, " deg")))
-        return r;
-    return PLM_OK;
+    return plm_params_check(&plm_masking_param_block, p, err);
 }
 
 /* The unit view direction in a cross-section; a zero (or non-finite) vector,

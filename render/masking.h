@@ -25,6 +25,7 @@
 #define PLUMAGE_RENDER_MASKING_H
 
 #include "common/error.h"
+#include "common/params.h"
 #include "common/vec.h"
 
 /* The authors' parameter names; angles in radians here (degrees in files and
@@ -43,6 +44,9 @@ void plm_masking_params_default(plm_masking_params *p);
 /* PLM_ERR_INVALID with a message naming the field and its range (in degrees
  * for the angles) if any field is out of range or not finite. */
 plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err);
+/* The fields of a masking block in files, with their ranges (common/params.h);
+ * validation reads the same table. */
+extern const plm_param_block plm_masking_param_block;
 
 /* A visible interval of a fiber's h (from -1 to 1 across its silhouette,
  * increasing along (d_y, -d_x) for the view d in its cross-section) and the fraction of the

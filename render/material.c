@@ -53,6 +53,20 @@ static int feather_sample(const plm_bsdf *b, double u0, double u1, double u2, pl
 
 static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_sample};
 
+/* (1 - w) white + w c */
+static rgb mix_from_white(rgb c, double w) { return rgb_add(rgb_gray(1.0), rgb_scale(rgb_sub(c, rgb_gray(1.0)), w)); }
+
+/* The pigment image's colour factor at uv (see plm_material): never above 1,
+ * so pigment only absorbs. Nearest texel: bands and barbs have sharp edges. */
+static rgb pigment_factor(const plm_material *m, vec2 uv)
+{
+    const plm_image *p = &m->pigment;
+    const float *px = p->pixels + (size_t)p->channels * (size_t)plm_texel_nearest(p->width, p->height, uv);
+    double band = px[PLM_PIGMENT_BANDS], tip = px[PLM_PIGMENT_TIP], barb = px[PLM_PIGMENT_BARB];
+    rgb f = rgb_mul(mix_from_white(m->band_tint, band), mix_from_white(m->tip_tint, tip));
+    return rgb_scale(f, plm_clamp(1.0 - barb, 0.0, 1.0));
+}
+
 void plm_material_surface(plm_hit *hit)
 {
     /* The texture says where the vane is; background texels never get here
@@ -63,6 +77,8 @@ void plm_material_surface(plm_hit *hit)
         return;
     vec2 dir = plm_feather_texture_direction(&m->texture, hit->uv);
     hit->on_vane = plm_feather_barb_frame(hit->n, hit->dpdu, hit->dpdv, dir, &hit->barb);
+    if (hit->on_vane && m->pigment.pixels)
+        hit->tint = rgb_mul(hit->tint, pigment_factor(m, hit->uv));
 }
 
 double plm_material_transmission(const plm_hit *hit, vec3 w)

@@ -2,10 +2,60 @@
 #include "render/scene.h"
 #include "render/feather_bsdf.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define BIG 1e9 /* bound for coordinates and distances */
+
+static const plm_param camera_params[] = {
+    {"position", PLM_PARAM_VEC3, offsetof(plm_camera_desc, position), -BIG, BIG, "scene units", "the eye", 0},
+    {"look_at", PLM_PARAM_VEC3, offsetof(plm_camera_desc, look_at), -BIG, BIG, "scene units",
+     "a point on the view axis; must differ from position", 0},
+    {"up", PLM_PARAM_VEC3, offsetof(plm_camera_desc, up), -BIG, BIG, "", "up direction, not along the view axis", 0},
+    {"fov", PLM_PARAM_NUMBER, offsetof(plm_camera_desc, fov), 0.01, 179.0, "degrees", "vertical field of view", 0},
+    {"aperture", PLM_PARAM_NUMBER, offsetof(plm_camera_desc, aperture), 0.0, BIG, "scene units",
+     "thin-lens radius; 0 = pinhole", 0},
+    {"focus_distance", PLM_PARAM_NUMBER, offsetof(plm_camera_desc, focus_distance), 0.0, BIG, "scene units",
+     "distance to the plane in focus; 0 = the distance to look_at", 0},
+};
+const plm_param_block plm_camera_param_block = {
+    "camera", "the camera; without a camera block the scene's bounds are framed from +z", camera_params,
+    (int)(sizeof camera_params / sizeof camera_params[0])};
+
+static const plm_param film_params[] = {
+    {"width", PLM_PARAM_INT, offsetof(plm_film_desc, width), 1, 16384, "pixels", "image width", 0},
+    {"height", PLM_PARAM_INT, offsetof(plm_film_desc, height), 1, 16384, "pixels", "image height", 0},
+    {"spp", PLM_PARAM_INT, offsetof(plm_film_desc, spp), 1, 1 << 24, "", "samples per pixel", 0},
+    {"seed", PLM_PARAM_SEED, offsetof(plm_film_desc, seed), 0, 2147483647, "", "random seed", 0},
+    {"max_depth", PLM_PARAM_INT, offsetof(plm_film_desc, max_depth), 0, 1024, "",
+     "most scattering events per path", 0},
+    {"exposure", PLM_PARAM_NUMBER, offsetof(plm_film_desc, exposure), -30.0, 30.0, "stops",
+     "PNG only: scale by 2^exposure before tone mapping", 0},
+};
+const plm_param_block plm_film_param_block = {
+    "film", "the image; also \"exr\" and \"png\": output files (working directory)", film_params,
+    (int)(sizeof film_params / sizeof film_params[0])};
+
+static const plm_param feather_material_params[] = {
+    {"rachis_reflectance", PLM_PARAM_RGB, offsetof(plm_material, reflectance), 0.0, 1.0, "",
+     "diffuse albedo of the rachis (and of rachis texels)", 0},
+    {"band_tint", PLM_PARAM_RGB, offsetof(plm_material, band_tint), 0.0, 1.0, "",
+     "colour factor inside the species' pigment bands", 0},
+    {"tip_tint", PLM_PARAM_RGB, offsetof(plm_material, tip_tint), 0.0, 1.0, "",
+     "colour factor at the tip, fading over the species' pigment tip_length", 0},
+};
+const plm_param_block plm_feather_material_param_block = {
+    "feather", "a feather material (a species' optics block); also barb, barbule (fiber) and masking blocks",
+    feather_material_params, (int)(sizeof feather_material_params / sizeof feather_material_params[0])};
+
+void plm_feather_material_default(plm_material *m)
+{
+    m->reflectance = rgb_make(0.8, 0.75, 0.65);
+    m->band_tint = rgb_make(0.3, 0.28, 0.26);
+    m->tip_tint = rgb_gray(1.0);
+}
 
 void plm_scene_init(plm_scene *scene)
 {
@@ -33,6 +83,7 @@ void plm_scene_free(plm_scene *scene)
         if (scene->materials[i].feather)
             plm_feather_params_free_tables(scene->materials[i].feather);
         free(scene->materials[i].feather);
+        free(scene->materials[i].pigment.pixels);
     }
     free(scene->lights);
     free(scene->meshes);

@@ -11,6 +11,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/mesh.h"
+#include "common/params.h"
 #include "common/vec.h"
 #include "render/feather_texture.h"
 #include "render/transform.h"
@@ -69,6 +70,12 @@ typedef struct plm_material {
     double transmission; /* diffuse: fraction of light passing straight through (a perforated sheet) */
     plm_feather_texture texture;             /* feather only */
     struct plm_feather_params *feather;      /* feather only, malloc'd */
+    /* Feather only: the generator's pigment image (channels in
+     * common/feather_texture_contract.h; no pixels = none) and the colours
+     * it mixes in: a texel's scattered colour is multiplied by
+     * mix(1, band_tint, bands) * mix(1, tip_tint, tip) * (1 - barb). */
+    plm_image pigment;
+    rgb band_tint, tip_tint;
 } plm_material;
 
 typedef struct plm_scene_mesh {
@@ -94,6 +101,15 @@ typedef struct plm_scene {
     plm_instance *instances;
     int instance_count, instance_capacity;
 } plm_scene;
+
+/* The camera, film and feather-material blocks' fields and ranges
+ * (common/params.h); the feather block's offsets are into plm_material. */
+extern const plm_param_block plm_camera_param_block;
+extern const plm_param_block plm_film_param_block;
+extern const plm_param_block plm_feather_material_param_block;
+
+/* The feather material's defaults for the fields of that block. */
+void plm_feather_material_default(plm_material *m);
 
 /* Empty scene with the documented camera and film defaults. */
 void plm_scene_init(plm_scene *scene);

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "common/json.h"
-#include "common/rng.h"
+#include "generate/layout.h"
 #include "render/feather_bsdf.h"
 #include "scene/scene_file.h"
 #include "texture/feather.h"
@@ -16,8 +16,8 @@
 
 struct plm_feather_cache_entry {
     char species[PLM_PATH_MAX];
-    int level, texture_size;
-    uint64_t variant;
+    int level, texture_size, variant, given_shape;
+    uint64_t seed;
     plm_feather_parts parts;
 };
 
@@ -34,7 +34,7 @@ static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm
     for (int i = 0; i < c->count; ++i) {
         const plm_feather_cache_entry *e = &c->entries[i];
         if (e->level == q->level && e->texture_size == q->texture_size && e->variant == q->variant &&
-            strcmp(e->species, q->species) == 0)
+            e->seed == q->seed && e->given_shape == (q->shape != NULL) && strcmp(e->species, q->species) == 0)
             return e;
     }
     return NULL;
@@ -44,17 +44,21 @@ static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm
  * its optics block (which generate/ does not keep) into the feather material. */
 static plm_result read_species(const char *file, plm_species *species, plm_material *feather, plm_error *err)
 {
-    static const char *const optics_keys[] = {"rachis_reflectance", "barb", "barbule", "masking", NULL};
+    static const char *const optics_keys[] = {"barb", "barbule", "masking", NULL};
     cJSON *root = NULL;
     plm_result rc = plm_json_load(file, &root, err);
     if (rc != PLM_OK)
         return rc;
     rc = plm_species_parse(root, file, species, err);
     if (rc == PLM_OK) {
-        static const cJSON empty = {0};
+        /* No optics block: an empty one, which means every default. */
         const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
+        if (!optics)
+            optics = cJSON_AddObjectToObject(root, "optics");
         plm_json_reader r = {file, err};
-        if ((rc = plm_feather_optics_read(&r, optics ? optics : &empty, "optics", optics_keys, feather)) != PLM_OK)
+        rc = optics ? plm_feather_optics_read(&r, optics, "optics", optics_keys, feather)
+                    : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+        if (rc != PLM_OK)
             plm_species_free(species);
     }
     cJSON_Delete(root);
@@ -89,19 +93,27 @@ static plm_result generate(plm_scene *scene, const char *name, const plm_feather
     if (rc != PLM_OK)
         return rc;
     /* A variant is another individual of the species: its own random choices. */
-    if (q->variant)
-        species.pigment.seed = plm_hash64(species.pigment.seed, q->variant, 0xfea7);
+    plm_shape shape;
+    plm_pigment pigment;
+    plm_species_variant(&species, q->variant, q->seed, &shape, &pigment);
+    species.shape = q->shape ? *q->shape : shape;
+    species.pigment = q->shape ? *q->pigment : pigment;
     snprintf(feather.name, sizeof feather.name, "%.100s", name);
     snprintf(rachis.name, sizeof rachis.name, "%.100s.rachis", name);
     rachis.reflectance = feather.reflectance;
     plm_feather f;
     memset(&f, 0, sizeof f);
-    plm_feather_options options = {q->level, q->texture_size, q->texture_size, 0, 0, 1};
+    /* The pigment image only when the species has pigment variation to show. */
+    const plm_pigment *pg = &species.pigment;
+    int has_pigment = pg->band_count > 0 || pg->tip_length > 0.0 || pg->barb_jitter > 0.0;
+    plm_feather_options options = {q->level, q->texture_size, q->texture_size, 0, 0, !has_pigment};
     rc = plm_feather_generate(&species, &options, &f, err);
     if (rc == PLM_OK) {
         rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
                                              err);
         f.texture.pixels = NULL; /* owned by the material now */
+        feather.pigment = f.pigment;
+        memset(&f.pigment, 0, sizeof f.pigment);
     }
     /* The scene takes each part as it is added (meshes are zeroed in f); the
      * feather material goes last so that it is ours to free until then. */
@@ -119,6 +131,7 @@ static plm_result generate(plm_scene *scene, const char *name, const plm_feather
     if (!taken) {
         plm_feather_texture_free(&feather.texture);
         free(feather.feather);
+        free(feather.pigment.pixels);
     }
     plm_feather_free(&f);
     plm_species_free(&species);
@@ -154,6 +167,8 @@ plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, con
     e->level = q.level;
     e->texture_size = q.texture_size;
     e->variant = q.variant;
+    e->seed = q.seed;
+    e->given_shape = q.shape != NULL;
     e->parts = *out;
     return PLM_OK;
 }

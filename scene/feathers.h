@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "generate/species.h"
 #include "render/scene.h"
 
 /* What placing one feather adds: the vane with the feather material and the
@@ -21,11 +22,18 @@ typedef struct plm_feather_parts {
     double length; /* the feather's extent along its rachis (+y), mm */
 } plm_feather_parts;
 
+/* The feather is the species' own, or its seeded variant (variant, seed) as
+ * plm_species_variant (generate/layout.h) makes it, or, when shape is given,
+ * that shape and pigment (a layout's prototype; then (variant, seed) must
+ * identify it among the requests of one cache). */
 typedef struct plm_feather_request {
     const char *species; /* a species preset file */
     int level;           /* subdivision level 1..6; 0 = the default */
     int texture_size;    /* 16..8192; 0 = 1024 */
-    uint64_t variant;    /* 0 = the species as written; else a seed for its random choices */
+    int variant;         /* 0 = the species as written */
+    uint64_t seed;
+    const plm_shape *shape;     /* NULL, or the shape to generate */
+    const plm_pigment *pigment; /* with shape */
 } plm_feather_request;
 
 typedef struct plm_feather_cache_entry plm_feather_cache_entry;

@@ -11,6 +11,7 @@
 #include "common/rng.h"
 #include "render/feather_bsdf.h"
 #include "scene/feathers.h"
+#include "scene/layout_block.h"
 #include "texture/feather.h"
 #include "texture/texture.h"
 
@@ -30,6 +31,7 @@ typedef struct loader {
     plm_feather_cache cache;
     named_feather *feathers;
     int feather_count, feather_capacity;
+    int layout_count;
 } loader;
 
 static plm_result load_file(loader *ld, const char *path, int depth);
@@ -44,8 +46,8 @@ static void resolve_path(const char *base, const char *rel, char *out)
         snprintf(out, PLM_PATH_MAX, "%.*s/%s", (int)(slash - base), base, rel);
 }
 
-static plm_result read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
-                            int required, char *out)
+plm_result plm_scene_read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
+                               int required, char *out)
 {
     const char *s = NULL;
     plm_result rc = plm_json_string(r, obj, path, key, NULL, &s);
@@ -63,20 +65,7 @@ static plm_result read_path(const plm_json_reader *r, const cJSON *obj, const ch
 
 static plm_result read_camera(const plm_json_reader *r, const cJSON *obj, plm_camera_desc *c)
 {
-    static const char *const keys[] = {"position", "look_at", "up", "fov", "aperture", "focus_distance", NULL};
-    plm_result rc = plm_json_check_object(r, obj, "camera", keys);
-    if (rc == PLM_OK)
-        rc = plm_json_vec3(r, obj, "camera", "position", c->position, -BIG, BIG, &c->position);
-    if (rc == PLM_OK)
-        rc = plm_json_vec3(r, obj, "camera", "look_at", c->look_at, -BIG, BIG, &c->look_at);
-    if (rc == PLM_OK)
-        rc = plm_json_vec3(r, obj, "camera", "up", c->up, -BIG, BIG, &c->up);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, "camera", "fov", c->fov, 0.01, 179.0, &c->fov);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, "camera", "aperture", c->aperture, 0.0, BIG, &c->aperture);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, "camera", "focus_distance", c->focus_distance, 0.0, BIG, &c->focus_distance);
+    plm_result rc = plm_params_read(r, obj, "camera", &plm_camera_param_block, NULL, c);
     if (rc != PLM_OK)
         return rc;
     vec3 view = v3_sub(c->look_at, c->position);
@@ -90,22 +79,8 @@ static plm_result read_camera(const plm_json_reader *r, const cJSON *obj, plm_ca
 
 static plm_result read_film(const plm_json_reader *r, const cJSON *obj, plm_film_desc *f)
 {
-    static const char *const keys[] = {"width", "height", "spp", "seed", "max_depth", "exr", "png", "exposure",
-                                       NULL};
-    int seed = (int)f->seed;
-    plm_result rc = plm_json_check_object(r, obj, "film", keys);
-    if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, "film", "width", f->width, 1, 16384, &f->width);
-    if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, "film", "height", f->height, 1, 16384, &f->height);
-    if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, "film", "spp", f->spp, 1, 1 << 24, &f->spp);
-    if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, "film", "seed", seed, 0, 2147483647, &seed);
-    if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, "film", "max_depth", f->max_depth, 0, 1024, &f->max_depth);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, "film", "exposure", f->exposure, -30.0, 30.0, &f->exposure);
+    static const char *const outputs[] = {"exr", "png", NULL};
+    plm_result rc = plm_params_read(r, obj, "film", &plm_film_param_block, outputs, f);
     /* Outputs are relative to the working directory, not to the scene file:
      * rendering a preset must not write into the preset folder. */
     const char *exr = NULL, *png = NULL;
@@ -115,7 +90,6 @@ static plm_result read_film(const plm_json_reader *r, const cJSON *obj, plm_film
         rc = plm_json_string(r, obj, "film", "png", NULL, &png);
     if (rc != PLM_OK)
         return rc;
-    f->seed = (uint64_t)seed;
     if (exr)
         snprintf(f->exr, sizeof f->exr, "%s", exr);
     if (png)
@@ -148,7 +122,7 @@ static plm_result read_light(const plm_json_reader *r, const cJSON *obj, const c
     if (type == 0) {
         char file[PLM_PATH_MAX];
         double rotation;
-        rc = read_path(r, obj, path, "file", 0, file);
+        rc = plm_scene_read_path(r, obj, path, "file", 0, file);
         if (rc == PLM_OK)
             rc = plm_json_number(r, obj, path, "rotation", 0.0, -360.0, 360.0, &rotation);
         if (rc != PLM_OK)
@@ -213,7 +187,7 @@ static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const ch
         char file[PLM_PATH_MAX];
         plm_result rc = plm_json_check_object(r, obj, path, file_keys);
         if (rc == PLM_OK)
-            rc = read_path(r, obj, path, "file", 1, file);
+            rc = plm_scene_read_path(r, obj, path, "file", 1, file);
         if (rc == PLM_OK && (rc = plm_mesh_read(file, m, r->err)) != PLM_OK)
             plm_error_prefix(r->err, "%s: %s.file: ", r->file, path);
         return rc;
@@ -254,60 +228,21 @@ static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const ch
     return rc == PLM_OK ? plm_shape_sphere(radius, rings, m, r->err) : rc;
 }
 
-/* Two numbers [a, b], each in [lo, hi]. */
-static plm_result read_pair(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key, double lo,
-                            double hi, double *a, double *b)
-{
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!item)
-        return PLM_OK;
-    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 2 || !cJSON_IsNumber(item->child) ||
-        !cJSON_IsNumber(item->child->next) || !(item->child->valuedouble >= lo && item->child->valuedouble <= hi) ||
-        !(item->child->next->valuedouble >= lo && item->child->next->valuedouble <= hi))
-        return plm_json_fail(r, path, key, "expected 2 numbers, each in [%g, %g]", lo, hi);
-    *a = item->child->valuedouble;
-    *b = item->child->next->valuedouble;
-    return PLM_OK;
-}
-
-/* A fiber block (docs/fiber.md; angles in degrees); absent fields keep p's values. */
+/* A fiber block (docs/fiber.md); absent fields keep p's values. */
 static plm_result read_fiber(const plm_json_reader *r, const cJSON *parent, const char *parent_path,
                              const char *key, plm_fiber_params *p)
 {
-    static const char *const keys[] = {"eccentricity", "eta", "sigma_a", "beta_m", "beta_n", "medulla_axes",
-                                       "medulla_centre", "medulla_reflectance", "lobes", NULL};
     const cJSON *obj = cJSON_GetObjectItemCaseSensitive(parent, key);
     if (!obj)
         return PLM_OK;
     char path[300];
     snprintf(path, sizeof path, "%s.%s", parent_path, key);
-    double beta_m = plm_degrees(p->beta_m), beta_n = plm_degrees(p->beta_n);
-    plm_result rc = plm_json_check_object(r, obj, path, keys);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "eccentricity", p->eccentricity, 0.01, 100.0, &p->eccentricity);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "eta", p->eta, 1.0, 4.0, &p->eta);
-    if (rc == PLM_OK)
-        rc = plm_json_rgb(r, obj, path, "sigma_a", p->sigma_a, 0.0, 1e4, &p->sigma_a);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "beta_m", beta_m, 0.5, 90.0, &beta_m);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "beta_n", beta_n, 0.5, 90.0, &beta_n);
-    if (rc == PLM_OK)
-        rc = read_pair(r, obj, path, "medulla_axes", 0.0, 100.0, &p->medulla_a, &p->medulla_b);
-    if (rc == PLM_OK)
-        rc = read_pair(r, obj, path, "medulla_centre", -100.0, 100.0, &p->medulla_ca, &p->medulla_cb);
-    if (rc == PLM_OK)
-        rc = plm_json_rgb(r, obj, path, "medulla_reflectance", p->medulla_reflectance, 0.0, 1.0,
-                          &p->medulla_reflectance);
-    if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, path, "lobes", p->lobes, 1, PLM_FIBER_SET_MAX_LOBES, &p->lobes);
-    if (rc != PLM_OK)
-        return rc;
-    p->beta_m = plm_radians(beta_m);
-    p->beta_n = plm_radians(beta_n);
+    plm_result rc = plm_params_read(r, obj, path, &plm_fiber_param_block, NULL, p);
+    if (rc == PLM_OK && p->lobes > PLM_FIBER_SET_MAX_LOBES)
+        return plm_json_fail(r, path, "lobes", "%d is out of range [1, %d] in a feather material", p->lobes,
+                             PLM_FIBER_SET_MAX_LOBES);
     /* What the field ranges cannot say: a medulla must lie inside the cortex. */
-    if ((rc = plm_fiber_params_validate(p, r->err)) != PLM_OK)
+    if (rc == PLM_OK && (rc = plm_fiber_params_validate(p, r->err)) != PLM_OK)
         plm_error_prefix(r->err, "%s: %s: ", r->file, path);
     return rc;
 }
@@ -315,45 +250,19 @@ static plm_result read_fiber(const plm_json_reader *r, const cJSON *parent, cons
 static plm_result read_masking(const plm_json_reader *r, const cJSON *parent, const char *parent_path,
                                plm_masking_params *m)
 {
-    static const char *const keys[] = {"barb_eccentricity", "barbule_eccentricity", "barbule_length",
-                                       "barbule_separation", "barbule_rotation", "barbule_inclination", NULL};
     const cJSON *obj = cJSON_GetObjectItemCaseSensitive(parent, "masking");
     if (!obj)
         return PLM_OK;
     char path[300];
     snprintf(path, sizeof path, "%s.masking", parent_path);
-    double rotation = plm_degrees(m->barbule_rotation), inclination = plm_degrees(m->barbule_inclination);
-    plm_result rc = plm_json_check_object(r, obj, path, keys);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barb_eccentricity", m->barb_eccentricity, 1e-3, 20.0,
-                             &m->barb_eccentricity);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barbule_eccentricity", m->barbule_eccentricity, 1e-3, 20.0,
-                             &m->barbule_eccentricity);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barbule_length", m->barbule_length, 1e-3, 100.0, &m->barbule_length);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barbule_separation", m->barbule_separation, 0.0, 100.0,
-                             &m->barbule_separation);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barbule_rotation", rotation, 0.0, 90.0, &rotation);
-    if (rc == PLM_OK)
-        rc = plm_json_number(r, obj, path, "barbule_inclination", inclination, -90.0, 90.0, &inclination);
-    if (rc != PLM_OK)
-        return rc;
-    m->barbule_rotation = plm_radians(rotation);
-    m->barbule_inclination = plm_radians(inclination);
-    if ((rc = plm_masking_params_validate(m, r->err)) != PLM_OK)
-        plm_error_prefix(r->err, "%s: %s: ", r->file, path);
-    return rc;
+    return plm_params_read(r, obj, path, &plm_masking_param_block, NULL, m);
 }
 
 plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
-                                   const char *const *keys, plm_material *m)
+                                   const char *const *extra, plm_material *m)
 {
-    plm_result rc = plm_json_check_object(r, obj, path, keys);
-    if (rc == PLM_OK)
-        rc = plm_json_rgb(r, obj, path, "rachis_reflectance", rgb_make(0.8, 0.75, 0.65), 0.0, 1.0, &m->reflectance);
+    plm_feather_material_default(m);
+    plm_result rc = plm_params_read(r, obj, path, &plm_feather_material_param_block, extra, m);
     if (rc != PLM_OK)
         return rc;
     m->type = PLM_MATERIAL_FEATHER;
@@ -371,16 +280,15 @@ plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, c
 
 static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
-    static const char *const keys[] = {"type", "texture", "rachis_reflectance", "barb", "barbule", "masking",
-                                       "bcsdf", NULL};
+    static const char *const extra[] = {"type", "texture", "barb", "barbule", "masking", "bcsdf", NULL};
     static const char *const bcsdfs[] = {"tabulated", "stochastic", NULL}; /* in plm_bcsdf_kind's order */
     int bcsdf = PLM_BCSDF_TABULATED;
-    plm_result rc = plm_feather_optics_read(r, obj, path, keys, m);
+    plm_result rc = plm_feather_optics_read(r, obj, path, extra, m);
     if (rc == PLM_OK && (rc = plm_json_enum(r, obj, path, "bcsdf", bcsdfs, bcsdf, &bcsdf)) == PLM_OK)
         m->feather->bcsdf = (plm_bcsdf_kind)bcsdf;
     char texture[PLM_PATH_MAX];
     if (rc == PLM_OK)
-        rc = read_path(r, obj, path, "texture", 1, texture);
+        rc = plm_scene_read_path(r, obj, path, "texture", 1, texture);
     if (rc == PLM_OK && (rc = plm_feather_texture_read(texture, &m->texture, r->err)) != PLM_OK)
         plm_error_prefix(r->err, "%s: %s.texture: ", r->file, path);
     return rc;
@@ -405,7 +313,7 @@ static plm_result read_material(const plm_json_reader *r, const cJSON *obj, cons
         rc = plm_json_number(r, obj, path, "transmission", 0.0, 0.0, 1.0, &m->transmission);
     char mask[PLM_PATH_MAX];
     if (rc == PLM_OK)
-        rc = read_path(r, obj, path, "mask", 0, mask);
+        rc = plm_scene_read_path(r, obj, path, "mask", 0, mask);
     if (rc == PLM_OK && mask[0] && (rc = plm_feather_texture_read(mask, &m->texture, r->err)) != PLM_OK)
         plm_error_prefix(r->err, "%s: %s.mask: ", r->file, path);
     m->type = PLM_MATERIAL_DIFFUSE;
@@ -535,10 +443,28 @@ static plm_result add_parts(const plm_json_reader *r, plm_scene *scene, const pl
     return PLM_OK;
 }
 
-static plm_result read_object(const loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path)
+/* {"layout": {...}, "transform": ...}: a whole plumage (scene/layout_block.h). */
+static plm_result read_layout_object(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path)
 {
+    static const char *const keys[] = {"layout", "transform", NULL};
+    plm_xform xform;
+    char lpath[300];
+    snprintf(lpath, sizeof lpath, "%s.layout", path);
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(obj, "transform"), path, &xform);
+    if (rc == PLM_OK)
+        rc = plm_layout_block_read(r, cJSON_GetObjectItemCaseSensitive(obj, "layout"), lpath, &xform, ld->scene,
+                                   &ld->cache, ld->layout_count++);
+    return rc;
+}
+
+static plm_result read_object(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path)
+{
+    if (cJSON_IsObject(obj) && cJSON_GetObjectItemCaseSensitive(obj, "layout"))
+        return read_layout_object(ld, r, obj, path);
     plm_scene *scene = ld->scene;
-    static const char *const keys[] = {"mesh", "material", "feather", "transform", "tint", "instances",
+    static const char *const keys[] = {"mesh", "material", "feather", "layout", "transform", "tint", "instances",
                                        "tint_jitter", "seed", NULL};
     static const char *const instance_keys[] = {"transform", "tint", NULL};
     plm_feather_parts parts = {0};
@@ -665,20 +591,18 @@ static plm_result read_species_feather(loader *ld, const plm_json_reader *r, con
 {
     static const char *const keys[] = {"species", "level", "texture_size", "variant", NULL};
     char species_file[PLM_PATH_MAX];
-    plm_feather_request q = {species_file, PLM_FEATHER_DEFAULT_LEVEL, PLM_TEXTURE_DEFAULT_SIZE, 0};
-    int variant = 0;
+    plm_feather_request q = {species_file, PLM_FEATHER_DEFAULT_LEVEL, PLM_TEXTURE_DEFAULT_SIZE, 0, 0, NULL, NULL};
     plm_result rc = plm_json_check_object(r, obj, path, keys);
     if (rc == PLM_OK)
-        rc = read_path(r, obj, path, "species", 1, species_file);
+        rc = plm_scene_read_path(r, obj, path, "species", 1, species_file);
     if (rc == PLM_OK)
         rc = plm_json_int(r, obj, path, "level", q.level, 1, 6, &q.level);
     if (rc == PLM_OK)
         rc = plm_json_int(r, obj, path, "texture_size", q.texture_size, 16, 8192, &q.texture_size);
     if (rc == PLM_OK)
-        rc = plm_json_int(r, obj, path, "variant", 0, 0, 2147483647, &variant);
+        rc = plm_json_int(r, obj, path, "variant", 0, 0, 2147483647, &q.variant);
     if (rc != PLM_OK)
         return rc;
-    q.variant = (uint64_t)variant;
     plm_feather_parts parts;
     /* Whatever fails (reading, optics, generation) comes from the species named here. */
     if ((rc = plm_feather_cache_get(&ld->cache, ld->scene, name, &q, &parts, r->err)) != PLM_OK) {
@@ -798,7 +722,7 @@ static plm_result load_file(loader *ld, const char *path, int depth)
 /* Reads the top-level tree with a fresh loader; the scene is freed on failure. */
 static plm_result load_root(const cJSON *root, const char *name, plm_scene *scene, plm_error *err)
 {
-    loader ld = {scene, err, 0, 0, {0}, NULL, 0, 0};
+    loader ld = {scene, err, 0, 0, {0}, NULL, 0, 0, 0};
     plm_json_reader r = {name, err};
     plm_result rc = read_scene(&ld, &r, root, 0);
     plm_feather_cache_free(&ld.cache);

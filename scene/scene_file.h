@@ -32,9 +32,16 @@ plm_result plm_scene_load_json(const cJSON *root, const char *name, plm_scene *s
 
 /* A feather material's optics (its fields other than type and texture; also
  * a species' "optics" block) into m: type feather, parameters allocated.
- * keys lists the fields obj may have. Absent fields take the documented
- * defaults, so an empty or absent block is a valid default feather. */
+ * extra lists the keys obj may have beyond the feather block's table
+ * (plm_feather_material_param_block): "barb", "barbule", "masking", ...
+ * Absent fields take the documented defaults, so an empty or absent block is
+ * a valid default feather. */
 plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
-                                   const char *const *keys, plm_material *m);
+                                   const char *const *extra, plm_material *m);
+
+/* A file path field (required or not; absent -> ""), resolved against the
+ * directory of the file r reads. out holds PLM_PATH_MAX characters. */
+plm_result plm_scene_read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
+                               int required, char *out);
 
 #endif

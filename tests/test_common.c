@@ -14,6 +14,7 @@
 #include "common/fileio.h"
 #include "common/image_io.h"
 #include "common/json.h"
+#include "common/params.h"
 #include "common/rng.h"
 #include "render/sampling.h"
 
@@ -221,6 +222,70 @@ static void text_is_drawn_at_its_baseline(void **state)
     assert_non_null(strstr(err.message, "3 or 4 channels"));
 }
 
+/* A parameter table reads angles in degrees into radians, keeps absent
+ * fields, refuses unknown keys (but the extra ones) and out-of-range values
+ * naming the field and range, and checks structs against the same ranges. */
+typedef struct table_target {
+    double length, angle;
+    int count;
+    uint64_t seed;
+    vec3 axis;
+} table_target;
+
+static void parameter_tables_read_check_and_print(void **state)
+{
+    (void)state;
+    static const plm_param params[] = {
+        {"length", PLM_PARAM_NUMBER, offsetof(table_target, length), 0.5, 2.0, "mm", "how long", 0},
+        {"angle", PLM_PARAM_ANGLE, offsetof(table_target, angle), 0.0, 90.0, "degrees", "how steep", 0},
+        {"count", PLM_PARAM_INT, offsetof(table_target, count), 1, 10, "", "how many", 0},
+        {"seed", PLM_PARAM_SEED, offsetof(table_target, seed), 0, 100, "", "which", 0},
+        {"axis", PLM_PARAM_VEC3, offsetof(table_target, axis), -1.0, 1.0, "", "where to", 0},
+    };
+    const plm_param_block block = {"test", "a test block", params, 5};
+    static const char *const extra[] = {"note", NULL};
+    plm_error err = {{0}};
+    plm_json_reader r = {"t.json", &err};
+    table_target t = {1.0, 0.0, 3, 7, {0, 0, 1}};
+    cJSON *obj = cJSON_Parse("{\"angle\": 30, \"count\": 4, \"seed\": 9, \"note\": \"read elsewhere\"}");
+    assert_int_equal(plm_params_read(&r, obj, "block", &block, extra, &t), PLM_OK);
+    assert_double_near(t.angle, 30.0 * PLM_PI / 180.0, 1e-15);
+    assert_double_near(t.length, 1.0, 0.0); /* absent: kept */
+    assert_int_equal(t.count, 4);
+    assert_int_equal((int)t.seed, 9);
+    assert_int_equal(plm_params_check(&block, &t, &err), PLM_OK);
+    cJSON_Delete(obj);
+    obj = cJSON_Parse("{\"note\": 1, \"colour\": 2}");
+    assert_int_equal(plm_params_read(&r, obj, "block", &block, extra, &t), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "block.colour"));
+    cJSON_Delete(obj);
+    obj = cJSON_Parse("{\"length\": 3}");
+    assert_int_equal(plm_params_read(&r, obj, "block", &block, NULL, &t), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "t.json: block.length"));
+    assert_non_null(strstr(err.message, "[0.5, 2]"));
+    cJSON_Delete(obj);
+    t.angle = 100.0 * PLM_PI / 180.0;
+    assert_int_equal(plm_params_check(&block, &t, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "test parameter angle = 100 degrees is out of range [0, 90]"));
+    t.angle = 0.0;
+    t.axis.y = NAN;
+    assert_int_equal(plm_params_check(&block, &t, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "axis"));
+    /* The markdown table: a header, a rule and one row per field, defaults from the struct given. */
+    t.axis.y = 0.0;
+    char buf[4096] = {0};
+    FILE *fp = fmemopen(buf, sizeof buf - 1, "w");
+    const void *defaults[1] = {&t};
+    const char *labels[1] = {""};
+    plm_params_print(fp, &block, 1, labels, defaults, 1);
+    fclose(fp);
+    int rows = 0;
+    for (const char *p = buf; (p = strchr(p, '\n')); ++p)
+        ++rows;
+    assert_int_equal(rows, 2 + 5);
+    assert_non_null(strstr(buf, "| `length` | number | 1 | 0.5 | 2 | mm | how long |"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -231,6 +296,7 @@ int main(void)
         cmocka_unit_test(atomic_file_leaves_nothing_on_abort),
         cmocka_unit_test(image_round_trips_through_exr_and_png16),
         cmocka_unit_test(text_is_drawn_at_its_baseline),
+        cmocka_unit_test(parameter_tables_read_check_and_print),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

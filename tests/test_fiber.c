@@ -360,7 +360,7 @@ static void validation_names_field_and_range(void **state)
 {
     (void)state;
     struct { const char *field; double bad; } cases[] = {
-        {"eccentricity", 0.0}, {"eta", 0.9}, {"beta_m", 0.0}, {"beta_n", 2.0}, {"medulla_a", -0.1}, {"medulla_cb", NAN},
+        {"eccentricity", 0.0}, {"eta", 0.9}, {"beta_m", 0.0}, {"beta_n", 2.0}, {"medulla_a", -0.1}, {"medulla_centre", NAN},
     };
     for (int i = 0; i < 6; ++i) {
         plm_fiber_params p;

@@ -306,6 +306,75 @@ static void species_feathers_are_generated_once(void **state)
     assert_non_null(strstr(err.message, "no_such_species.json"));
 }
 
+/* A pelt block places count feathers (vane and rachis each) from a few
+ * prototypes generated once, plus its surface; the same seed gives the same
+ * scene, another seed another; a species without optics takes the defaults. */
+static void layout_blocks_place_generated_prototypes(void **state)
+{
+    (void)state;
+    write_file("bare.json", "{\"name\": \"bare\", \"shape\": {\"length\": 40}, \"pigment\": {\"bands\": 3}}");
+    const char *fmt = "{\"materials\": {\"skin\": {}}, \"objects\": [{\"layout\": {\"type\": \"pelt\","
+                      " \"species\": [\"bare.json\", {\"file\": \"bare.json\", \"weight\": 2}], \"count\": 30,"
+                      " \"variants\": 2, \"seed\": %d, \"level\": 1, \"texture_size\": 32,"
+                      " \"surface\": {\"shape\": \"plane\", \"size\": [0.4, 0.3]}, \"surface_material\": \"skin\"},"
+                      " \"transform\": {\"translate\": [1, 2, 3]}}]}";
+    plm_scene s[3];
+    plm_error err = {{0}};
+    for (int k = 0; k < 3; ++k) {
+        char text[1024], name[32];
+        snprintf(text, sizeof text, fmt, k == 2 ? 8 : 7);
+        snprintf(name, sizeof name, "pelt%d.json", k);
+        write_file(name, text);
+        if (load(name, &s[k], &err) != PLM_OK)
+            fail_msg("%s", err.message);
+    }
+    /* 2 species entries x 2 variants = 4 prototypes: 8 feather meshes and the surface. */
+    assert_int_equal(s[0].mesh_count, 9);
+    assert_int_equal(s[0].instance_count, 2 * 30 + 1);
+    int pigmented = 0;
+    for (int m = 0; m < s[0].material_count; ++m) {
+        const plm_material *mat = &s[0].materials[m];
+        if (mat->type != PLM_MATERIAL_FEATHER)
+            continue;
+        /* No optics block: the documented defaults. */
+        plm_feather_params def;
+        plm_feather_params_default(&def);
+        assert_double_near(mat->feather->barb.eta, def.barb.eta, 0.0);
+        assert_double_near(mat->reflectance.g, 0.75, 0.0);
+        pigmented += mat->pigment.pixels != NULL && mat->pigment.channels == 3;
+    }
+    assert_int_equal(pigmented, 4);
+    int same = 1, differs = 0;
+    for (int i = 0; i < s[0].instance_count; ++i)
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) {
+                same &= s[0].instances[i].xform.m[r][c] == s[1].instances[i].xform.m[r][c];
+                differs |= s[0].instances[i].xform.m[r][c] != s[2].instances[i].xform.m[r][c];
+            }
+    assert_true(same);
+    assert_true(differs);
+    /* The object's transform moves the whole pelt: the surface sits at its translation. */
+    const plm_instance *surface = &s[0].instances[s[0].instance_count - 1];
+    assert_double_near(surface->xform.m[0][3], 1.0, 1e-12);
+    assert_double_near(surface->xform.m[2][3], 3.0, 1e-12);
+    for (int k = 0; k < 3; ++k)
+        plm_scene_free(&s[k]);
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"pelt\", \"species\": [\"bare.json\"], \"count\": -1,"
+                 " \"surface\": {\"shape\": \"plane\"}}}]}",
+                 (const char *const[]){"bad.json", "objects[0].layout.count", "[0, 1000000]", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"pelt\", \"species\": [\"bare.json\"]}}]}",
+                 (const char *const[]){"objects[0].layout.surface", "required", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"bare.json\"],"
+                 " \"variation\": {\"yaw\": 100}}}]}",
+                 (const char *const[]){"objects[0].layout.variation.yaw", "[0, 90]", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"missing.json\"]}}]}",
+                 (const char *const[]){"objects[0].layout.species[0]", "missing.json", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"wing\"}}]}",
+                 (const char *const[]){"objects[0].layout.type", "\"pelt\"", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"bare.json\"], \"colour\": 1}}]}",
+                 (const char *const[]){"objects[0].layout.colour", "unknown field", NULL});
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -315,6 +384,7 @@ int main(void)
         cmocka_unit_test(errors_name_file_field_and_allowed_values),
         cmocka_unit_test(buffer_reads_like_a_file),
         cmocka_unit_test(species_feathers_are_generated_once),
+        cmocka_unit_test(layout_blocks_place_generated_prototypes),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

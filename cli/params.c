@@ -1,0 +1,79 @@
+/* plumage params: the parameter tables of the scene format's blocks (field,
+ * type, default, range, unit, meaning), as text or as the markdown tables of
+ * docs/scene-format.md. The tables are the ones the scene reader validates
+ * with (common/params.h). */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "generate/layout.h"
+#include "render/feather_bsdf.h"
+#include "render/scene.h"
+#include "scene/layout_block.h"
+
+typedef struct block_entry {
+    const plm_param_block *block;
+    int n_defaults;
+    const char *labels[2];
+    const void *defaults[2];
+} block_entry;
+
+int cmd_params(int argc, char **argv)
+{
+    int markdown = 0;
+    plm_option opts[] = {
+        {"--markdown", PLM_OPT_FLAG, &markdown, 0, 0, 0, NULL, NULL, "markdown tables (as in docs/scene-format.md)", 0},
+    };
+    plm_command_help help = {
+        "plumage params [BLOCK...] [--markdown]",
+        "Lists the fields of the scene format's parameter blocks: type, default, allowed range, unit and meaning.\n"
+        "BLOCK is one of camera, film, fiber, masking, pelt, ball, variation (default: all). These tables are\n"
+        "the ones scene files are checked against."};
+    const char *names[16];
+    int n_names = 0;
+    int rc = plm_parse_options(&help, argc, argv, 1, opts, 1, names, 16, &n_names);
+    if (rc)
+        return rc == 1 ? 0 : 2;
+    plm_scene scene;
+    plm_scene_init(&scene);
+    plm_feather_params feather;
+    plm_feather_params_default(&feather);
+    static const plm_pelt_params pelt;
+    static const plm_ball_params ball;
+    static const plm_layout_variation variation;
+    const block_entry blocks[] = {
+        {&plm_camera_param_block, 1, {""}, {&scene.camera}},
+        {&plm_film_param_block, 1, {""}, {&scene.film}},
+        {&plm_fiber_param_block, 2, {"barb", "barbule"}, {&feather.barb, &feather.barbule}},
+        {&plm_masking_param_block, 1, {""}, {&feather.masking}},
+        {&plm_pelt_param_block, 1, {""}, {&pelt}},
+        {&plm_ball_param_block, 1, {""}, {&ball}},
+        {&plm_variation_param_block, 1, {""}, {&variation}},
+    };
+    const int n_blocks = (int)(sizeof blocks / sizeof blocks[0]);
+    for (int i = 0; i < n_names; ++i) {
+        int known = 0;
+        for (int b = 0; b < n_blocks; ++b)
+            known |= strcmp(names[i], blocks[b].block->name) == 0;
+        if (!known) {
+            fprintf(stderr, "error: unknown block '%s' (one of camera, film, fiber, masking, pelt, ball, variation)\n",
+                    names[i]);
+            return 2;
+        }
+    }
+    int first = 1;
+    for (int b = 0; b < n_blocks; ++b) {
+        int wanted = n_names == 0;
+        for (int i = 0; i < n_names; ++i)
+            wanted |= strcmp(names[i], blocks[b].block->name) == 0;
+        if (!wanted)
+            continue;
+        if (!first)
+            fputc('\n', stdout);
+        first = 0;
+        plm_params_print(stdout, blocks[b].block, blocks[b].n_defaults, blocks[b].labels, blocks[b].defaults,
+                         markdown);
+    }
+    return 0;
+}

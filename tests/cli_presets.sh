@@ -1,0 +1,29 @@
+# Every scene preset renders at a tiny resolution: the images are finite and
+# not black, and the same at one and two threads (deterministic); and the
+# parameter tables in docs/scene-format.md are the ones the reader checks.
+# usage: bash cli_presets.sh <plumage> <scratch dir>
+set -u
+source "$(dirname "$0")/lib_cli.sh"
+
+for scene in "$PLUMAGE_SOURCE_DIR"/presets/scenes/*.json; do
+    name=$(basename "$scene" .json)
+    expect_ok "$name renders" "$PLUMAGE" render "$scene" --resolution 16x12 --spp 1 --quiet --threads 2 \
+        -o "$name.png" --exr "$name.exr"
+    expect_image "$name: finite, not black" 16 12 "$name.exr"
+    expect_ok "$name again on one thread" "$PLUMAGE" render "$scene" --resolution 16x12 --spp 1 --quiet \
+        --threads 1 -o "$name.1.png" --exr "$name.1.exr"
+    same_pixels "$name.exr" "$name.1.exr" && pass "$name: deterministic" || fail "$name: deterministic"
+done
+
+# The docs hold the tables `plumage params --markdown` prints, between markers.
+"$PLUMAGE" params --markdown > tables.md 2>err.txt || fail "params --markdown: $(cat err.txt)"
+sed -n '/<!-- plumage params --markdown: begin -->/,/<!-- plumage params --markdown: end -->/p' \
+    "$PLUMAGE_SOURCE_DIR/docs/scene-format.md" | sed '1d;$d' > documented.md
+if [ -s tables.md ] && diff -q tables.md documented.md >/dev/null; then
+    pass "docs/scene-format.md holds the current parameter tables"
+else
+    fail "docs/scene-format.md parameter tables differ from 'plumage params --markdown': $(diff tables.md documented.md | head -5)"
+fi
+expect_stderr "params: unknown block" "unknown block 'lens'" "$PLUMAGE" params lens
+
+finish
