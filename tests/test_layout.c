@@ -539,11 +539,12 @@ static void wing_rows_and_ramps(void **state)
     assert_same_layout(&l, &again);
     plm_error err = {{0}};
     plm_wing_params bad = {.fold = 1.5};
-    assert_int_equal(plm_layout_wing(&bad, rows, &again, &err), PLM_ERR_INVALID);
+    plm_layout none;
+    assert_int_equal(plm_layout_wing(&bad, rows, &none, &err), PLM_ERR_INVALID);
     assert_non_null(strstr(err.message, "fold"));
     rows[PLM_WING_PRIMARY] = NULL;
     bad.fold = 0.0;
-    assert_int_equal(plm_layout_wing(&bad, rows, &again, &err), PLM_ERR_INVALID);
+    assert_int_equal(plm_layout_wing(&bad, rows, &none, &err), PLM_ERR_INVALID);
     assert_non_null(strstr(err.message, "primary"));
     plm_layout_free(&l);
     plm_layout_free(&folded);
