@@ -154,7 +154,7 @@ static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
     for (int j = 0; j < b->m.n_jobs; ++j) {
         plm_job_status st;
         plm_batch_job_status(b, j, &st);
-        if (st.state != PLM_JOB_DONE)
+        if (st.state != PLM_JOB_DONE && st.state != PLM_JOB_RUNNING) /* running: by another batch, here */
             r.todo[r.n_todo++] = j;
     }
     /* Whole jobs in parallel first (no synchronisation inside a job), then the spare cores as threads. */
@@ -212,7 +212,7 @@ static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
     sigaction(SIGTERM, &old_term, NULL);
     if (!quiet && isatty(2))
         fputc('\n', stderr);
-    int not_done = plm_batch_gather(b, quiet);
+    int not_done = plm_batch_gather(b, 0, quiet); /* the reasons were printed as the jobs ended */
     free(r.todo);
     free(r.pids);
     free(r.running);
@@ -344,9 +344,9 @@ int cmd_batch(int argc, char **argv)
     } else if (job >= 0) {
         plm_job_status st;
         plm_batch_job_status(&b, job, &st);
-        if (st.state == PLM_JOB_DONE)
-            fprintf(stderr, "job %s is already done (%s/%s/summary.json)\n", b.m.jobs[job].name, b.out,
-                    b.m.jobs[job].name);
+        if (st.state == PLM_JOB_DONE || st.state == PLM_JOB_RUNNING)
+            fprintf(stderr, "job %s is already %s (%s/%s/)\n", b.m.jobs[job].name, plm_job_state_names[st.state],
+                    b.out, b.m.jobs[job].name);
         else
             exit_status = plm_batch_run_job(&b, job, threads, quiet);
     } else if (dry_run) {
@@ -354,7 +354,7 @@ int cmd_batch(int argc, char **argv)
     } else if (status) {
         exit_status = plm_batch_print_status(&b) ? 1 : 0;
     } else if (gather) {
-        exit_status = plm_batch_gather(&b, quiet) ? 1 : 0;
+        exit_status = plm_batch_gather(&b, 1, quiet) ? 1 : 0;
     } else if (slurm || slurm_print) {
         plm_slurm_options so = {partition, time_limit, mem, cpus, sbatch_args.items, sbatch_args.count, slurm_print};
         exit_status = plm_batch_slurm(&b, &so);

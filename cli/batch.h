@@ -4,7 +4,8 @@
  *   summary.json  written last, atomically: the job is done (if its key and
  *                 output hashes still match)
  *   failed.json   the job ran and failed (the message, the exit status)
- *   started.json  the job started and never finished (killed)
+ *   started.json  the job started and has not finished: running (if its
+ *                 process is alive on this host) or killed
  * docs/batch.md describes the layout. */
 #ifndef PLUMAGE_CLI_BATCH_H
 #define PLUMAGE_CLI_BATCH_H
@@ -24,15 +25,17 @@ typedef enum plm_job_state {
     PLM_JOB_MISSING = 0, /* never started, or its summary is for other inputs */
     PLM_JOB_KILLED,      /* started, never finished */
     PLM_JOB_FAILED,
-    PLM_JOB_DONE
+    PLM_JOB_RUNNING,     /* started, its process alive on this host */
+    PLM_JOB_DONE,
+    PLM_JOB_STATES
 } plm_job_state;
 
-extern const char *const plm_job_state_names[]; /* "missing", "killed", "failed", "done" */
+extern const char *const plm_job_state_names[]; /* "missing", "killed", "failed", "running", "done" */
 
 typedef struct plm_job_status {
     plm_job_state state;
     char runner[64];    /* "local" or "slurm <job>_<task>", from the newest record */
-    char message[512];  /* failed: why; killed: when it started */
+    char message[512];  /* failed: why; killed, running: when and where it started */
     double seconds;     /* done: total time */
 } plm_job_status;
 
@@ -48,8 +51,9 @@ void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st);
 int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet);
 
 /* Reads every job's state; writes report.json and, for a sweep, the labelled
- * contact sheet. Prints the failures. Returns the number of jobs not done. */
-int plm_batch_gather(const plm_batch *b, int quiet);
+ * contact sheet. Prints each job not done with its reason (`explain`), or
+ * just their names. Returns the number of jobs not done. */
+int plm_batch_gather(const plm_batch *b, int explain, int quiet);
 
 /* Prints every job's state (from the output folder alone); returns the number not done. */
 int plm_batch_print_status(const plm_batch *b);

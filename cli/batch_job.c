@@ -1,5 +1,6 @@
 /* One batch job in this process, and what a job's folder says about it. */
 #include <dirent.h>
+#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,7 +16,7 @@
 #include "common/fileio.h"
 #include "common/json.h"
 
-const char *const plm_job_state_names[] = {"missing", "killed", "failed", "done"};
+const char *const plm_job_state_names[] = {"missing", "killed", "failed", "running", "done"};
 
 /* The images every job writes, in its folder. */
 static const char *const outputs[] = {"image.png", "image.exr"};
@@ -177,6 +178,18 @@ static int summary_is_complete(const plm_batch *b, int job, const cJSON *summary
     return 1;
 }
 
+/* Whether a started job's process is alive: only knowable on its own host. */
+static int still_running(const cJSON *started)
+{
+    char host[256] = "";
+    const cJSON *pid = cJSON_GetObjectItemCaseSensitive(started, "pid");
+    gethostname(host, sizeof host - 1);
+    if (!cJSON_IsNumber(pid) || pid->valuedouble <= 1 || (pid_t)pid->valuedouble == getpid() ||
+        strcmp(string_field(started, "host"), host) != 0)
+        return 0;
+    return kill((pid_t)pid->valuedouble, 0) == 0 || errno == EPERM;
+}
+
 void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st)
 {
     memset(st, 0, sizeof *st);
@@ -196,8 +209,10 @@ void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st)
         } else if (i == 1) {
             snprintf(st->message, sizeof st->message, "%s", string_field(doc, "error"));
         } else {
-            snprintf(st->message, sizeof st->message, "started %s on %s, never finished", string_field(doc, "time"),
-                     string_field(doc, "host"));
+            int alive = still_running(doc);
+            st->state = alive ? PLM_JOB_RUNNING : PLM_JOB_KILLED;
+            snprintf(st->message, sizeof st->message, "started %s on %s%s", string_field(doc, "time"),
+                     string_field(doc, "host"), alive ? "" : ", never finished");
         }
         cJSON_Delete(doc);
     }
@@ -227,8 +242,7 @@ static volatile sig_atomic_t stop_job;
 
 static void on_stop(int sig)
 {
-    (void)sig;
-    stop_job = 1;
+    stop_job = sig;
 }
 
 static cJSON *string_array(char *const *items, int n)
@@ -337,7 +351,10 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
     sigaction(SIGTERM, &old_term, NULL);
     sigaction(SIGINT, &old_int, NULL);
     if (status != 0)
-        return finish_failed(b, job, rj.interrupted ? "interrupted by a signal (SIGTERM or SIGINT)" : rj.error,
+        return finish_failed(b, job,
+                             !rj.interrupted        ? rj.error
+                             : stop_job == SIGTERM ? "stopped by SIGTERM (scancel, a time limit or kill)"
+                                                   : "stopped by SIGINT (Ctrl-C)",
                              status);
     double total = plm_bench_seconds() - t0;
     cJSON *summary = summary_document(b, job, &rj, total);

@@ -155,10 +155,10 @@ static int write_contact_sheet(const plm_batch *b, const plm_job_status *st, con
     return ok;
 }
 
-static plm_job_status *read_states(const plm_batch *b, int counts[4])
+static plm_job_status *read_states(const plm_batch *b, int counts[PLM_JOB_STATES])
 {
     plm_job_status *st = calloc((size_t)b->m.n_jobs, sizeof *st);
-    memset(counts, 0, 4 * sizeof *counts);
+    memset(counts, 0, PLM_JOB_STATES * sizeof *counts);
     for (int j = 0; st && j < b->m.n_jobs; ++j) {
         plm_batch_job_status(b, j, &st[j]);
         ++counts[st[j].state];
@@ -168,15 +168,18 @@ static plm_job_status *read_states(const plm_batch *b, int counts[4])
     return st;
 }
 
-static void print_counts(FILE *out, const plm_batch *b, const int counts[4])
+static void print_counts(FILE *out, const plm_batch *b, const int counts[PLM_JOB_STATES])
 {
-    fprintf(out, "%d jobs: %d done, %d failed, %d killed, %d missing\n", b->m.n_jobs, counts[PLM_JOB_DONE],
+    fprintf(out, "%d jobs: %d done, %d failed, %d killed, %d missing", b->m.n_jobs, counts[PLM_JOB_DONE],
             counts[PLM_JOB_FAILED], counts[PLM_JOB_KILLED], counts[PLM_JOB_MISSING]);
+    if (counts[PLM_JOB_RUNNING])
+        fprintf(out, ", %d running", counts[PLM_JOB_RUNNING]);
+    fputc('\n', out);
 }
 
-int plm_batch_gather(const plm_batch *b, int quiet)
+int plm_batch_gather(const plm_batch *b, int explain, int quiet)
 {
-    int counts[4];
+    int counts[PLM_JOB_STATES];
     plm_job_status *st = read_states(b, counts);
     if (!st)
         return b->m.n_jobs;
@@ -184,7 +187,7 @@ int plm_batch_gather(const plm_batch *b, int quiet)
     cJSON *doc = cJSON_CreateObject();
     cJSON_AddStringToObject(doc, "manifest", b->manifest_path);
     cJSON_AddNumberToObject(doc, "jobs", b->m.n_jobs);
-    for (int s = 0; s < 4; ++s)
+    for (int s = 0; s < PLM_JOB_STATES; ++s)
         cJSON_AddNumberToObject(doc, plm_job_state_names[s], counts[s]);
     int sheet_ok = 1;
     if (b->m.n_keys > 0) {
@@ -205,14 +208,21 @@ int plm_batch_gather(const plm_batch *b, int quiet)
         if (st[j].message[0])
             cJSON_AddStringToObject(e, "message", st[j].message);
         cJSON_AddItemToArray(list, e);
-        if (st[j].state == PLM_JOB_FAILED || st[j].state == PLM_JOB_KILLED)
-            fprintf(stderr, "job %s %s: %s (see %s/%s/)\n", b->m.jobs[j].name, plm_job_state_names[st[j].state],
-                    st[j].message, b->out, b->m.jobs[j].name);
+        if (explain && st[j].state != PLM_JOB_DONE)
+            fprintf(stderr, "job %s %s%s%s (see %s/%s/)\n", b->m.jobs[j].name, plm_job_state_names[st[j].state],
+                    st[j].message[0] ? ": " : "", st[j].message, b->out, b->m.jobs[j].name);
     }
     snprintf(path, sizeof path, "%s/report.json", b->out);
     int report_ok = plm_batch_write_json(path, doc);
     cJSON_Delete(doc);
-    if (!quiet)
+    if (!explain && counts[PLM_JOB_DONE] < b->m.n_jobs) {
+        fprintf(stderr, "not done:");
+        for (int j = 0; j < b->m.n_jobs; ++j)
+            if (st[j].state != PLM_JOB_DONE)
+                fprintf(stderr, " %s (%s)", b->m.jobs[j].name, plm_job_state_names[st[j].state]);
+        fprintf(stderr, "\n");
+    }
+    if (!quiet || counts[PLM_JOB_DONE] < b->m.n_jobs)
         print_counts(stderr, b, counts);
     free(st);
     int not_done = b->m.n_jobs - counts[PLM_JOB_DONE];
@@ -221,7 +231,7 @@ int plm_batch_gather(const plm_batch *b, int quiet)
 
 int plm_batch_print_status(const plm_batch *b)
 {
-    int counts[4];
+    int counts[PLM_JOB_STATES];
     plm_job_status *st = read_states(b, counts);
     if (!st)
         return b->m.n_jobs;

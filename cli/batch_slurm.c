@@ -25,25 +25,28 @@ static void put_quoted(FILE *fp, const char *text)
     fputc('\'', fp);
 }
 
-/* The array's indices as Slurm ranges: "0-3,7,9-12". */
+/* A job to submit: neither done nor running right now on this host. */
+static int wanted(const plm_batch *b, int j)
+{
+    plm_job_status st;
+    plm_batch_job_status(b, j, &st);
+    return st.state != PLM_JOB_DONE && st.state != PLM_JOB_RUNNING;
+}
+
+/* The indices of the jobs to submit as Slurm ranges: "0-3,7,9-12". Returns their number. */
 static int array_spec(const plm_batch *b, char *out, size_t size)
 {
     int n = 0;
     size_t len = 0;
     out[0] = '\0';
     for (int j = 0; j < b->m.n_jobs;) {
-        plm_job_status st;
-        plm_batch_job_status(b, j, &st);
-        if (st.state == PLM_JOB_DONE) {
+        if (!wanted(b, j)) {
             ++j;
             continue;
         }
         int k = j + 1;
-        for (; k < b->m.n_jobs; ++k) {
-            plm_batch_job_status(b, k, &st);
-            if (st.state == PLM_JOB_DONE)
-                break;
-        }
+        while (k < b->m.n_jobs && wanted(b, k))
+            ++k;
         int w = k - 1 > j ? snprintf(out + len, size - len, "%s%d-%d", n ? "," : "", j, k - 1)
                           : snprintf(out + len, size - len, "%s%d", n ? "," : "", j);
         if (w < 0 || (size_t)w >= size - len)

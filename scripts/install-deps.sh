@@ -1,9 +1,19 @@
 #!/usr/bin/env bash
 # Installs what plumage needs to build and test on Debian 12, if missing.
+#   scripts/install-deps.sh           the build and test dependencies
+#   scripts/install-deps.sh --slurm   also Slurm and munge, for the opt-in `slurm`
+#                                     tests (CI only: this puts scheduler daemons on
+#                                     the machine, which a plain install never does)
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
           libembree-dev libopenimageio-dev openimageio-tools libosd-dev libopenmesh-dev
           libcjson-dev libcmocka-dev fonts-dejavu-core)
+for arg in "$@"; do
+    case "$arg" in
+    --slurm) packages+=(slurmctld slurmd slurm-client munge) ;;
+    *) echo "usage: $0 [--slurm]" >&2; exit 2 ;;
+    esac
+done
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -46,7 +46,9 @@ n=$(ls sweep/*/summary.json 2>/dev/null | wc -l)
 [ "$n" -eq 6 ] && pass "six summaries" || fail "six summaries ($n)"
 grep -q '"spp":	2' sweep/0003/summary.json && grep -q '"camera.fov=40"' sweep/0003/summary.json &&
     grep -q '"fnv1a64"' sweep/0003/summary.json && pass "summary has parameters and hashes" || fail "summary content"
-if [ -s sweep/contact_sheet.png ] && [ -s sweep/report.json ]; then pass "contact sheet and report"; else fail "contact sheet and report"; fi
+expect_image "job images" 24 16 sweep/*/image.png sweep/*/image.exr
+expect_image "contact sheet" 418 "[0-9]+" sweep/contact_sheet.png
+[ -s sweep/report.json ] && pass "report written" || fail "report written"
 expect_output "status: all done" "6 jobs: 6 done, 0 failed, 0 killed, 0 missing" "$PLUMAGE" batch sweep.json --status
 expect_ok "a second run" "$PLUMAGE" batch sweep.json
 grep -q "6 already done; 0 to run" err.txt && pass "done jobs are not redone" || fail "done jobs are not redone: $(cat err.txt)"

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Wall time of one sweep of small jobs run locally (`plumage batch`) and as a
+# job array on a single-node Slurm on this machine (scripts/slurm-local.sh),
+# and the scheduling overhead per task. Needs root and
+# `scripts/install-deps.sh --slurm`; the local figure is printed regardless.
+# usage: scripts/bench-batch.sh build/cli/plumage [JOBS (a square: 4, 9, 16, ...)]
+set -u
+plumage=$(realpath "$1")
+jobs=${2:-16}
+side=$(awk -v n="$jobs" 'BEGIN { print int(sqrt(n) + 0.5) }')
+cd "$(dirname "$0")/.." && source scripts/slurm-local.sh
+work=$(mktemp -d /tmp/plumage-bench-batch.XXXXXX)
+trap 'slurm_local_stop "$work/slurm"; rm -rf "$work"' EXIT
+cd "$work"
+cat > small.json <<'JSON'
+{
+  "camera": {"position": [0, 1, 3], "look_at": [0, 0, 0], "fov": 40},
+  "film": {"width": 64, "height": 48, "spp": 16},
+  "lights": [{"type": "environment", "radiance": [0.5, 0.5, 0.6]}, {"type": "distant", "direction": [1, 2, 1]}],
+  "meshes": {"floor": {"shape": "quad", "size": [4, 4]}, "ball": {"shape": "sphere", "radius": 0.5}},
+  "materials": {"grey": {"reflectance": [0.5, 0.5, 0.5]}},
+  "objects": [{"mesh": "floor", "material": "grey", "transform": {"rotate": [-90, 0, 0]}},
+              {"mesh": "ball", "material": "grey", "transform": {"translate": [0, 0.5, 0]}}]
+}
+JSON
+fovs=$(seq -s, 20 5 $((20 + 5 * (side - 1))))
+suns=$(seq -s, 1 1 "$side")
+echo "{\"scene\": \"small.json\", \"sweep\": {\"camera.fov\": [$fovs], \"lights.1.direction.0\": [$suns]}}" > sweep.json
+[ "$(wc -l < <("$plumage" batch sweep.json --dry-run))" -eq "$jobs" ] || { echo "error: $jobs is not a square" >&2; exit 2; }
+cores=$(nproc)
+calc() { awk "BEGIN { printf \"%.3f\", $1 }"; }
+in_jobs() { cat "$1"/*/summary.json | awk '/"total":/ { gsub(",", "", $2); s += $2 } END { printf "%.2f", s }'; }
+
+t0=$(date +%s.%N)
+"$plumage" batch sweep.json -o local --quiet --parallel "$cores" --threads 1 || exit 1
+local_wall=$(calc "$(date +%s.%N) - $t0")
+printf "%d jobs of 64x48 at 16 spp on %d cores, %d at a time with 1 thread each\n" "$jobs" "$cores" "$cores"
+printf "local:  %6.2f s wall (%s s inside the jobs)\n" "$local_wall" "$(in_jobs local)"
+
+if ! slurm_local_start "$work/slurm"; then
+    echo "slurm:  not measured (reason above)"
+    exit 0
+fi
+t0=$(date +%s.%N)
+"$plumage" batch sweep.json -o slurm --slurm --cpus-per-task 1 >/dev/null || exit 1
+while [ -n "$(squeue -h -o %i)" ]; do sleep 0.05; done
+slurm_wall=$(calc "$(date +%s.%N) - $t0")
+printf "slurm:  %6.2f s wall from submission to the gathered report (%s s inside the jobs)\n" "$slurm_wall" "$(in_jobs slurm)"
+printf "scheduling overhead: %.2f s of wall per task, %.2f s per task on each of the %d CPUs\n" \
+    "$(calc "($slurm_wall - $local_wall) / $jobs")" "$(calc "($slurm_wall - $local_wall) * $cores / $jobs")" "$cores"
