@@ -49,6 +49,7 @@ static const plm_subcommand benches[] = {
     {"masking", bench_masking, "ns per full barb/barbule masking call over random directions"},
     {"generate", bench_generate, "one flight feather in memory: meshes + 1024x1024 textures, ms and peak memory"},
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
+    {"scene", bench_scene, "scene files and pelts of 100 to 100,000 feathers: load, samples/s/thread, peak memory"},
     {"fiber", bench_fiber, "fiber BCSDF: single-thread ns per prepare+eval and prepare+sample, Fig. 7 fibers"},
     {NULL, NULL, NULL}, /* sentinel: benchmarks are added here as the parts land */
 };

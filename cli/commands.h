@@ -12,6 +12,7 @@ int cmd_texture(int argc, char **argv);
 int cmd_params(int argc, char **argv);
 int bench_generate(int argc, char **argv);
 int bench_render(int argc, char **argv);
+int bench_scene(int argc, char **argv);
 int probe_masking(int argc, char **argv);
 int bench_masking(int argc, char **argv);
 int probe_fiber(int argc, char **argv);
