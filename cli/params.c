@@ -28,7 +28,7 @@ int cmd_params(int argc, char **argv)
     plm_command_help help = {
         "plumage params [BLOCK...] [--markdown]",
         "Lists the fields of the scene format's parameter blocks: type, default, allowed range, unit and meaning.\n"
-        "BLOCK is one of camera, film, fiber, masking, pelt, ball, variation (default: all). These tables are\n"
+        "BLOCK is one of camera, film, feather, fiber, masking, pelt, ball, wing, variation (default: all). These tables are\n"
         "the ones scene files are checked against."};
     const char *names[16];
     int n_names = 0;
@@ -39,16 +39,21 @@ int cmd_params(int argc, char **argv)
     plm_scene_init(&scene);
     plm_feather_params feather;
     plm_feather_params_default(&feather);
+    plm_material material;
+    plm_feather_material_default(&material);
     static const plm_pelt_params pelt;
     static const plm_ball_params ball;
+    static const plm_wing_params wing;
     static const plm_layout_variation variation;
     const block_entry blocks[] = {
         {&plm_camera_param_block, 1, {""}, {&scene.camera}},
         {&plm_film_param_block, 1, {""}, {&scene.film}},
+        {&plm_feather_material_param_block, 1, {""}, {&material}},
         {&plm_fiber_param_block, 2, {"barb", "barbule"}, {&feather.barb, &feather.barbule}},
         {&plm_masking_param_block, 1, {""}, {&feather.masking}},
         {&plm_pelt_param_block, 1, {""}, {&pelt}},
         {&plm_ball_param_block, 1, {""}, {&ball}},
+        {&plm_wing_param_block, 1, {""}, {&wing}},
         {&plm_variation_param_block, 1, {""}, {&variation}},
     };
     const int n_blocks = (int)(sizeof blocks / sizeof blocks[0]);
@@ -57,7 +62,7 @@ int cmd_params(int argc, char **argv)
         for (int b = 0; b < n_blocks; ++b)
             known |= strcmp(names[i], blocks[b].block->name) == 0;
         if (!known) {
-            fprintf(stderr, "error: unknown block '%s' (one of camera, film, fiber, masking, pelt, ball, variation)\n",
+            fprintf(stderr, "error: unknown block '%s' (one of camera, film, feather, fiber, masking, pelt, ball, wing, variation)\n",
                     names[i]);
             return 2;
         }

@@ -63,6 +63,25 @@ const plm_param_block plm_ball_param_block = {
     "ball", "feathers radiating from a sphere (layout type \"ball\"); also species, variation", ball_params,
     (int)(sizeof ball_params / sizeof ball_params[0])};
 
+static const plm_param wing_params[] = {
+    {"span", PLM_PARAM_NUMBER, offsetof(plm_wing_params, span), 0.0, BIG, "layout units",
+     "shoulder to the tip of the longest primary; 0 = 1", 0},
+    {"chord", PLM_PARAM_NUMBER, offsetof(plm_wing_params, chord), 0.0, BIG, "layout units",
+     "length of the secondaries; 0 = 0.3 span", 0},
+    {"sweep", PLM_PARAM_ANGLE, offsetof(plm_wing_params, sweep), -60.0, 60.0, "degrees",
+     "how far the hand and its primaries sweep back", 0},
+    {"fold", PLM_PARAM_NUMBER, offsetof(plm_wing_params, fold), 0.0, 1.0, "", "0 = spread .. 1 = folded", 0},
+    {"primaries", PLM_PARAM_INT, offsetof(plm_wing_params, primaries), 0, 12, "", "0 = 10", 0},
+    {"secondaries", PLM_PARAM_INT, offsetof(plm_wing_params, secondaries), 0, 24, "", "0 = 12", 0},
+    {"tertials", PLM_PARAM_INT, offsetof(plm_wing_params, tertials), 0, 6, "", "0 = 3", 0},
+    {"variants", PLM_PARAM_INT, offsetof(plm_wing_params, variants), 0, 64, "",
+     "distinct feathers generated per row; 0 = 3", 0},
+    {"seed", PLM_PARAM_SEED, offsetof(plm_wing_params, seed), 0, 2147483647, "", "variation", 0},
+};
+const plm_param_block plm_wing_param_block = {
+    "wing", "a right wing (layout type \"wing\"); also rows, variation", wing_params,
+    (int)(sizeof wing_params / sizeof wing_params[0])};
+
 /* The species a layout uses, loaded, with their files (for the feather cache). */
 typedef struct species_list {
     int count;
@@ -106,6 +125,34 @@ static plm_result read_species(const plm_json_reader *r, const cJSON *obj, const
         out->count = i + 1;
     }
     return PLM_OK;
+}
+
+/* "rows": {"primary": file, "secondary": file, ...}: one species per wing row,
+ * indexed by plm_wing_row; rows left out take the secondary's. */
+static plm_result read_rows(const plm_json_reader *r, const cJSON *obj, const char *path, species_list *out)
+{
+    const cJSON *rows = cJSON_GetObjectItemCaseSensitive(obj, "rows");
+    char rpath[300];
+    snprintf(rpath, sizeof rpath, "%s.rows", path);
+    if (!cJSON_IsObject(rows))
+        return plm_json_fail(r, path, "rows", "required: {\"primary\": file, \"secondary\": file, ...}");
+    const char *keys[PLM_WING_ROWS + 1] = {NULL};
+    for (int row = 0; row < PLM_WING_ROWS; ++row)
+        keys[row] = plm_wing_row_names[row];
+    plm_result rc = plm_json_check_object(r, rows, rpath, keys);
+    for (int row = 0; rc == PLM_OK && row < PLM_WING_ROWS; ++row) {
+        int required = row == PLM_WING_PRIMARY || row == PLM_WING_SECONDARY;
+        rc = plm_scene_read_path(r, rows, rpath, plm_wing_row_names[row], required, out->file[row]);
+    }
+    for (int row = 0; rc == PLM_OK && row < PLM_WING_ROWS; ++row) {
+        if (!out->file[row][0])
+            snprintf(out->file[row], PLM_PATH_MAX, "%s", out->file[PLM_WING_SECONDARY]);
+        if ((rc = plm_species_load(out->file[row], &out->species[row], r->err)) != PLM_OK)
+            plm_error_prefix(r->err, "%s: %s.%s: ", r->file, rpath, plm_wing_row_names[row]);
+        else
+            out->count = row + 1;
+    }
+    return rc;
 }
 
 /* "surface": {"shape": "plane", "size": [w, h]}, {"shape": "sphere", "radius": r} or {"mesh": NAME}. */
@@ -223,23 +270,26 @@ static plm_result place(const plm_json_reader *r, const char *path, const plm_la
 plm_result plm_layout_block_read(const plm_json_reader *r, const cJSON *obj, const char *path, const plm_xform *xform,
                                  plm_scene *scene, plm_feather_cache *cache, int ordinal)
 {
-    static const char *const types[] = {"pelt", "ball", NULL};
+    static const char *const types[] = {"pelt", "ball", "wing", NULL};
+    static const char *const wing_extra[] = {"type", "rows", "variation", "level", "texture_size", NULL};
     static const char *const pelt_extra[] = {"type", "species", "surface", "surface_material", "variation",
                                              "level", "texture_size", NULL};
     static const char *const ball_extra[] = {"type", "species", "surface_material", "variation", "level",
                                              "texture_size", NULL};
     if (!cJSON_IsObject(obj))
-        return plm_json_fail(r, path, NULL, "expected an object with \"type\": \"pelt\" or \"ball\"");
+        return plm_json_fail(r, path, NULL, "expected an object with \"type\": \"pelt\", \"ball\" or \"wing\"");
     int type = 0, level = 2, texture_size = 512;
     plm_result rc = plm_json_enum(r, obj, path, "type", types, 0, &type);
     plm_pelt_params pelt = {0};
     plm_ball_params ball = {0};
-    plm_layout_variation *variation = type == 0 ? &pelt.variation : &ball.variation;
+    plm_wing_params wing = {0};
+    plm_layout_variation *variation = type == 0 ? &pelt.variation : type == 1 ? &ball.variation : &wing.variation;
     char vpath[300];
     snprintf(vpath, sizeof vpath, "%s.variation", path);
     if (rc == PLM_OK)
-        rc = type == 0 ? plm_params_read(r, obj, path, &plm_pelt_param_block, pelt_extra, &pelt)
-                       : plm_params_read(r, obj, path, &plm_ball_param_block, ball_extra, &ball);
+        rc = type == 0   ? plm_params_read(r, obj, path, &plm_pelt_param_block, pelt_extra, &pelt)
+             : type == 1 ? plm_params_read(r, obj, path, &plm_ball_param_block, ball_extra, &ball)
+                         : plm_params_read(r, obj, path, &plm_wing_param_block, wing_extra, &wing);
     const cJSON *var = cJSON_GetObjectItemCaseSensitive(obj, "variation");
     if (rc == PLM_OK && var)
         rc = plm_params_read(r, var, vpath, &plm_variation_param_block, NULL, variation);
@@ -258,18 +308,22 @@ plm_result plm_layout_block_read(const plm_json_reader *r, const cJSON *obj, con
     if (!sl)
         return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
     plm_layout layout = {0};
-    rc = read_species(r, obj, path, sl);
+    rc = type == 2 ? read_rows(r, obj, path, sl) : read_species(r, obj, path, sl);
     if (rc == PLM_OK) {
-        rc = type == 0 ? plm_layout_pelt(&pelt, sl->weighted, sl->count, &layout, r->err)
-                       : plm_layout_ball(&ball, sl->weighted, sl->count, &layout, r->err);
+        const plm_species *rows[PLM_WING_ROWS];
+        for (int row = 0; row < PLM_WING_ROWS && type == 2; ++row)
+            rows[row] = &sl->species[row];
+        rc = type == 0   ? plm_layout_pelt(&pelt, sl->weighted, sl->count, &layout, r->err)
+             : type == 1 ? plm_layout_ball(&ball, sl->weighted, sl->count, &layout, r->err)
+                         : plm_layout_wing(&wing, rows, &layout, r->err);
         if (rc != PLM_OK)
             plm_error_prefix(r->err, "%s: %s: ", r->file, path);
     }
+    uint64_t seed = type == 0 ? pelt.seed : type == 1 ? ball.seed : wing.seed;
     if (rc == PLM_OK)
-        rc = place(r, path, &layout, sl, level, texture_size, type == 0 ? pelt.seed : ball.seed, ordinal, xform,
-                   scene, cache);
+        rc = place(r, path, &layout, sl, level, texture_size, seed, ordinal, xform, scene, cache);
     plm_surface core = {PLM_SURFACE_SPHERE, 0.0, 0.0, ball.radius > 0.0 ? ball.radius : 1.0, NULL};
-    if (rc == PLM_OK)
+    if (rc == PLM_OK && type != 2)
         rc = add_base(r, obj, path, type == 0 ? &pelt.surface : &core, mesh_index, xform, scene);
     plm_layout_free(&layout);
     for (int i = 0; i < sl->count; ++i)

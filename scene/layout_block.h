@@ -14,6 +14,7 @@
 
 extern const plm_param_block plm_pelt_param_block;      /* plm_pelt_params */
 extern const plm_param_block plm_ball_param_block;      /* plm_ball_params */
+extern const plm_param_block plm_wing_param_block;      /* plm_wing_params */
 extern const plm_param_block plm_variation_param_block; /* plm_layout_variation */
 
 /* Reads the layout object at path, runs the layout and adds its feathers to

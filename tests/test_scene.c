@@ -370,7 +370,25 @@ static void layout_blocks_place_generated_prototypes(void **state)
     expect_error("{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"missing.json\"]}}]}",
                  (const char *const[]){"objects[0].layout.species[0]", "missing.json", NULL});
     expect_error("{\"objects\": [{\"layout\": {\"type\": \"wing\"}}]}",
-                 (const char *const[]){"objects[0].layout.type", "\"pelt\"", NULL});
+                 (const char *const[]){"objects[0].layout.rows", "required", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"wing\", \"rows\": {\"secondary\": \"bare.json\"}}}]}",
+                 (const char *const[]){"objects[0].layout.rows.primary", "required", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"wing\", \"rows\": {\"primary\": \"bare.json\","
+                 " \"secondary\": \"bare.json\", \"tail\": \"bare.json\"}}}]}",
+                 (const char *const[]){"objects[0].layout.rows.tail", "unknown field", "alula", NULL});
+    expect_error("{\"objects\": [{\"layout\": {\"type\": \"fan\"}}]}",
+                 (const char *const[]){"objects[0].layout.type", "\"wing\"", NULL});
+    /* A wing: every row's feathers placed, the rows left out taking the secondary's species. */
+    write_file("wing.json", "{\"objects\": [{\"layout\": {\"type\": \"wing\", \"rows\": {\"primary\": \"bare.json\","
+                            " \"secondary\": \"bare.json\"}, \"primaries\": 9, \"variants\": 1, \"level\": 1,"
+                            " \"texture_size\": 16}}]}");
+    plm_scene w;
+    if (load("wing.json", &w, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    assert_true(w.instance_count > 2 * (9 + 12 + 3));
+    assert_int_equal(w.instance_count % 2, 0);
+    assert_int_equal(w.mesh_count, 2 * 7); /* one prototype per row */
+    plm_scene_free(&w);
     expect_error("{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"bare.json\"], \"colour\": 1}}]}",
                  (const char *const[]){"objects[0].layout.colour", "unknown field", NULL});
 }
