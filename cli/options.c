@@ -69,12 +69,12 @@ static int parse_value(const plm_command_help *help, plm_option *o, const char *
                 break;
             ++n;
             if (vals[n - 1] < o->lo || vals[n - 1] > o->hi) {
-                fprintf(stderr, "error: %s: %g is out of range [%g, %g]\n", o->name, vals[n - 1], o->lo, o->hi);
+                fprintf(stderr, "error: %s: %.10g is out of range [%.10g, %.10g]\n", o->name, vals[n - 1], o->lo, o->hi);
                 return 0;
             }
         }
         if (n != count || strtok_r(NULL, ",", &save)) {
-            fprintf(stderr, "error: %s: '%s' must be %d comma-separated number%s in [%g, %g]\n", o->name, value,
+            fprintf(stderr, "error: %s: '%s' must be %d comma-separated number%s in [%.10g, %.10g]\n", o->name, value,
                     count, count > 1 ? "s" : "", o->lo, o->hi);
             return 0;
         }

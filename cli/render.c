@@ -93,10 +93,10 @@ int plm_render_job_run(plm_render_job *job)
     job->nonfinite = film.nonfinite;
     job->interrupted = film.interrupted;
     job->used_threads = film.threads;
-    fprintf(stderr, "%s%dx%d, %lld samples in %.2f s on %d threads (%.0f samples/s/thread)%s%s%s%s\n",
+    fprintf(stderr, "%s%dx%d, %lld samples in %.2f s on %d threads (%.0f samples/s/thread), %s%s%s%s%s\n",
             film.interrupted ? "interrupted: " : "", film.width, film.height, film.sample_count, film.seconds,
             film.threads, film.seconds > 0 ? film.sample_count / film.seconds / film.threads : 0.0,
-            job->png[0] ? ", wrote " : "", job->png, job->exr[0] ? " " : "", job->exr);
+            status ? "not written:" : "wrote", job->png[0] ? " " : "", job->png, job->exr[0] ? " " : "", job->exr);
     if (film.nonfinite)
         fprintf(stderr, "warning: %lld non-finite samples were dropped (counted as black)\n", film.nonfinite);
     else

@@ -21,13 +21,40 @@ void plm_temp_path_for(const char *path, char *out, size_t out_size)
     snprintf(out, out_size, "%.*s.%.*s.tmp%ld-%u%s", dir_len, path, stem_len, base, (long)getpid(), n, ext);
 }
 
+void plm_output_target(const char *path, char *target, size_t target_size)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+        snprintf(target, target_size, "%s", path);
+    else
+        plm_temp_path_for(path, target, target_size);
+}
+
+void plm_output_discard(const char *path, const char *target)
+{
+    if (target[0] && strcmp(path, target) != 0)
+        remove(target);
+}
+
+plm_result plm_output_commit(const char *path, const char *target, plm_error *err)
+{
+    if (strcmp(path, target) == 0)
+        return PLM_OK;
+    if (rename(target, path) != 0) {
+        int e = errno;
+        remove(target);
+        return plm_fail(err, PLM_ERR_IO, "%s: cannot rename into place: %s", path, strerror(e));
+    }
+    return PLM_OK;
+}
+
 plm_result plm_atomic_open(plm_atomic_file *f, const char *path, plm_error *err)
 {
     memset(f, 0, sizeof *f);
     if (strlen(path) >= sizeof f->path - 64)
         return plm_fail(err, PLM_ERR_INVALID, "%s: path is too long", path);
     snprintf(f->path, sizeof f->path, "%s", path);
-    plm_temp_path_for(path, f->temp_path, sizeof f->temp_path);
+    plm_output_target(path, f->temp_path, sizeof f->temp_path);
     f->fp = fopen(f->temp_path, "wb");
     if (!f->fp)
         return plm_fail(err, PLM_ERR_IO, "%s: cannot create file: %s", path, strerror(errno));
@@ -37,18 +64,15 @@ plm_result plm_atomic_open(plm_atomic_file *f, const char *path, plm_error *err)
 plm_result plm_atomic_commit(plm_atomic_file *f, plm_error *err)
 {
     int failed = ferror(f->fp);
+    failed |= fflush(f->fp) != 0;
+    int e = errno;
     failed |= fclose(f->fp) != 0;
     f->fp = NULL;
     if (failed) {
-        remove(f->temp_path);
-        return plm_fail(err, PLM_ERR_IO, "%s: write failed", f->path);
+        plm_output_discard(f->path, f->temp_path);
+        return plm_fail(err, PLM_ERR_IO, "%s: write failed: %s", f->path, strerror(e ? e : errno));
     }
-    if (rename(f->temp_path, f->path) != 0) {
-        int e = errno;
-        remove(f->temp_path);
-        return plm_fail(err, PLM_ERR_IO, "%s: cannot rename into place: %s", f->path, strerror(e));
-    }
-    return PLM_OK;
+    return plm_output_commit(f->path, f->temp_path, err);
 }
 
 void plm_atomic_abort(plm_atomic_file *f)
@@ -56,8 +80,21 @@ void plm_atomic_abort(plm_atomic_file *f)
     if (f->fp)
         fclose(f->fp);
     f->fp = NULL;
-    if (f->temp_path[0])
-        remove(f->temp_path);
+    plm_output_discard(f->path, f->temp_path);
+}
+
+plm_result plm_write_file(const char *path, const void *data, size_t size, plm_error *err)
+{
+    plm_atomic_file f;
+    plm_result rc = plm_atomic_open(&f, path, err);
+    if (rc != PLM_OK)
+        return rc;
+    if (fwrite(data, 1, size, f.fp) != size) {
+        int e = errno;
+        plm_atomic_abort(&f);
+        return plm_fail(err, PLM_ERR_IO, "%s: write failed: %s", path, strerror(e));
+    }
+    return plm_atomic_commit(&f, err);
 }
 
 plm_result plm_make_dirs(const char *path, plm_error *err)
@@ -82,36 +119,49 @@ plm_result plm_make_dirs(const char *path, plm_error *err)
     return PLM_OK;
 }
 
-plm_result plm_read_text_file(const char *path, char **out, plm_error *err)
+plm_result plm_read_file(const char *path, size_t max_size, char **out, size_t *size, plm_error *err)
 {
     *out = NULL;
+    *size = 0;
+    /* Checked before opening too: opening a FIFO would wait for a writer. */
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return plm_fail(err, PLM_ERR_IO, "%s: not a regular file", path);
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return plm_fail(err, PLM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    size_t cap = 1 << 16, len = 0;
-    char *buf = NULL;
-    for (;;) {
-        char *bigger = realloc(buf, cap);
-        if (!bigger) {
-            free(buf);
-            fclose(fp);
-            return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory reading the file", path);
-        }
-        buf = bigger;
-        len += fread(buf + len, 1, cap - len - 1, fp);
-        if (len < cap - 1)
-            break;
-        cap *= 2;
+    if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(fp);
+        return plm_fail(err, PLM_ERR_IO, "%s: not a regular file", path);
     }
-    int read_error = ferror(fp);
+    if ((unsigned long long)st.st_size > max_size) {
+        fclose(fp);
+        return plm_fail(err, PLM_ERR_INVALID, "%s: %lld bytes is more than the limit of %zu bytes for this kind of file",
+                        path, (long long)st.st_size, max_size);
+    }
+    size_t n = (size_t)st.st_size;
+    char *buf = malloc(n + 1);
+    if (!buf) {
+        fclose(fp);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory reading %zu bytes", path, n);
+    }
+    size_t got = fread(buf, 1, n, fp);
+    int read_error = ferror(fp) || got != n;
     fclose(fp);
     if (read_error) {
         free(buf);
         return plm_fail(err, PLM_ERR_IO, "%s: read error", path);
     }
-    buf[len] = '\0';
+    buf[n] = '\0';
     *out = buf;
+    *size = n;
     return PLM_OK;
+}
+
+plm_result plm_read_text_file(const char *path, char **out, plm_error *err)
+{
+    size_t size;
+    return plm_read_file(path, PLM_TEXT_FILE_MAX, out, &size, err);
 }
 
 const char *plm_path_extension(const char *path, char *buf, size_t buf_size)

@@ -24,10 +24,30 @@ void plm_atomic_abort(plm_atomic_file *f);
  * the format by extension): "dir/name.png" -> "dir/.name.tmp<pid>-<n>.png". */
 void plm_temp_path_for(const char *path, char *out, size_t out_size);
 
+/* Every writer (plm_atomic_file, images, meshes) goes through these three:
+ * it writes into target, then commits, or discards on any failure. target is
+ * a temporary beside path, renamed over it when complete; but when path is
+ * an existing device or pipe (/dev/null, /dev/full, a FIFO), which a rename
+ * would replace, target is path itself and a failure is reported as it is. */
+void plm_output_target(const char *path, char *target, size_t target_size);
+plm_result plm_output_commit(const char *path, const char *target, plm_error *err);
+void plm_output_discard(const char *path, const char *target);
+
+/* Writes size bytes to path through a plm_atomic_file. */
+plm_result plm_write_file(const char *path, const void *data, size_t size, plm_error *err);
+
 /* Creates a directory and its parents if missing. */
 plm_result plm_make_dirs(const char *path, plm_error *err);
 
-/* Reads a whole file into a NUL-terminated malloc'd buffer. */
+/* Reads a whole regular file of at most max_size bytes into a malloc'd
+ * buffer with a NUL after the last byte (*size excludes it). Devices, pipes
+ * and larger files are refused before anything is allocated. */
+plm_result plm_read_file(const char *path, size_t max_size, char **out, size_t *size, plm_error *err);
+
+/* The largest text file (scene, species) plumage reads: 256 MiB. */
+#define PLM_TEXT_FILE_MAX ((size_t)256 << 20)
+
+/* plm_read_file for text files (at most PLM_TEXT_FILE_MAX). */
 plm_result plm_read_text_file(const char *path, char **out, plm_error *err);
 
 /* Lower-cased extension of path without the dot ("" if none). */

@@ -1,5 +1,6 @@
 // OpenImageIO adapter behind common/image_io.h, built as the module that
 // image_module.c opens on first use (see common/image_module.h).
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -8,11 +9,13 @@
 #include <cstdlib>
 #include <memory>
 #include <unistd.h>
+#include <vector>
 
 extern "C" {
 #include "common/fileio.h"
 #include "common/image_module.h"
 }
+#include "common/adapter_guard.hpp"
 
 using OIIO::ImageInput;
 using OIIO::ImageOutput;
@@ -28,13 +31,11 @@ static TypeDesc oiio_type(plm_pixel_type t)
     }
 }
 
-static plm_result oiio_write(const char *path, int width, int height, int channels, plm_pixel_type type,
-                             const void *data, plm_error *err)
+static plm_result image_write(const char *path, int width, int height, int channels, plm_pixel_type type,
+                              const void *data, plm_error *err)
 {
     if (width <= 0 || height <= 0 || channels <= 0)
         return plm_fail(err, PLM_ERR_INVALID, "%s: invalid image size %dx%dx%d", path, width, height, channels);
-    char temp[4096];
-    plm_temp_path_for(path, temp, sizeof temp);
     auto out = ImageOutput::create(path);
     if (!out)
         return plm_fail(err, PLM_ERR_IO, "%s: no image writer for this file type (use .exr, .png, .hdr, .tif)", path);
@@ -42,33 +43,47 @@ static plm_result oiio_write(const char *path, int width, int height, int channe
     // OpenImageIO stamps EXR headers with the current time unless told not to;
     // an empty DateTime keeps the same pixels byte-identical across runs.
     spec.attribute("DateTime", "");
-    if (!out->open(temp, spec)) {
+    // OpenImageIO does not notice a failed write (a full disk), so formats that
+    // can are encoded in memory and written by plm_write_file, which does.
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    bool in_memory = out->supports("ioproxy") && out->set_ioproxy(&proxy);
+    char temp[4096];
+    plm_output_target(path, temp, sizeof temp);
+    if (!out->open(in_memory ? path : temp, spec)) {
         std::string msg = out->geterror();
+        if (!in_memory)
+            plm_output_discard(path, temp);
         return plm_fail(err, PLM_ERR_IO, "%s: cannot write: %s", path, msg.c_str());
     }
     bool ok = out->write_image(oiio_type(type), data);
     ok = out->close() && ok;
     if (!ok) {
         std::string msg = out->geterror();
-        std::remove(temp);
+        if (!in_memory)
+            plm_output_discard(path, temp);
         return plm_fail(err, PLM_ERR_IO, "%s: write failed: %s", path, msg.c_str());
     }
-    if (std::rename(temp, path) != 0) {
-        std::remove(temp);
-        return plm_fail(err, PLM_ERR_IO, "%s: cannot rename into place", path);
-    }
-    return PLM_OK;
+    return in_memory ? plm_write_file(path, bytes.data(), bytes.size(), err) : plm_output_commit(path, temp, err);
 }
 
-static plm_result oiio_read(const char *path, int *width, int *height, int *channels, float **pixels, plm_error *err)
+static plm_result image_read(const char *path, int *width, int *height, int *channels, float **pixels,
+                             plm_error *err)
 {
     *pixels = nullptr;
-    auto in = ImageInput::open(path);
-    if (!in) {
-        std::string msg = OIIO::geterror();
+    // Only the reader of the format the extension names: a file is never
+    // offered to every other format's decoder (docs/robustness.md).
+    auto in = ImageInput::create(path);
+    ImageSpec spec;
+    if (!in || !in->open(path, spec)) {
+        std::string msg = in ? in->geterror() : OIIO::geterror();
         return plm_fail(err, PLM_ERR_IO, "%s: cannot read image: %s", path, msg.c_str());
     }
-    const ImageSpec &spec = in->spec();
+    plm_result rc = plm_image_check_size(path, spec.width, spec.height, spec.nchannels, err);
+    if (rc == PLM_OK && spec.depth > 1)
+        rc = plm_fail(err, PLM_ERR_INVALID, "%s: a volume (%d deep) is not an image", path, spec.depth);
+    if (rc != PLM_OK)
+        return rc;
     size_t count = (size_t)spec.width * spec.height * spec.nchannels;
     float *buf = (float *)std::malloc(count * sizeof(float));
     if (!buf)
@@ -85,8 +100,8 @@ static plm_result oiio_read(const char *path, int *width, int *height, int *chan
     return PLM_OK;
 }
 
-static plm_result oiio_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
-                                 plm_error *err)
+static plm_result draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
+                            plm_error *err)
 {
     if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || (img->channels != 3 && img->channels != 4))
         return plm_fail(err, PLM_ERR_INVALID, "draw text: the image must be float with 3 or 4 channels");
@@ -105,6 +120,25 @@ static plm_result oiio_draw_text(plm_image *img, int x, int y, int size_px, cons
         return plm_fail(err, PLM_ERR_INTERNAL, "draw text: %s", msg.c_str());
     }
     return PLM_OK;
+}
+
+// The module's entry points let no exception out (common/adapter_guard.hpp).
+static plm_result oiio_write(const char *path, int width, int height, int channels, plm_pixel_type type,
+                             const void *data, plm_error *err)
+{
+    return plm_guard(err, path, [&] { return image_write(path, width, height, channels, type, data, err); });
+}
+
+static plm_result oiio_read(const char *path, int *width, int *height, int *channels, float **pixels, plm_error *err)
+{
+    *pixels = nullptr;
+    return plm_guard(err, path, [&] { return image_read(path, width, height, channels, pixels, err); });
+}
+
+static plm_result oiio_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
+                                 plm_error *err)
+{
+    return plm_guard(err, "draw text", [&] { return draw_text(img, x, y, size_px, text, color, err); });
 }
 
 extern "C" __attribute__((visibility("default"))) const plm_image_module plm_image_module_table = {

@@ -13,6 +13,19 @@ typedef struct plm_image {
     float *pixels; /* width * height * channels, malloc'd */
 } plm_image;
 
+/* The largest image plumage reads, makes or renders: at most 16384 pixels a
+ * side, 64 channels and 2^28 values in all (1 GiB of floats: 8192 x 8192
+ * RGBA, or 9459 x 9459 RGB). Larger requests are refused before anything is
+ * allocated (docs/robustness.md). */
+#define PLM_IMAGE_SIDE_MAX 16384
+#define PLM_IMAGE_CHANNELS_MAX 64
+#define PLM_IMAGE_VALUES_MAX ((long long)1 << 28)
+
+/* PLM_OK if a width x height image of that many channels is within the
+ * limits above; else PLM_ERR_INVALID with a message naming `what` and the limit. */
+plm_result plm_image_check_size(const char *what, long long width, long long height, long long channels,
+                                plm_error *err);
+
 typedef enum plm_pixel_type {
     PLM_PIXEL_FLOAT = 0,  /* 32-bit float (EXR, HDR, TIFF) */
     PLM_PIXEL_UINT8 = 1,  /* PNG, JPEG */
@@ -23,7 +36,8 @@ typedef enum plm_pixel_type {
 plm_result plm_image_write(const char *path, int width, int height, int channels, plm_pixel_type type,
                            const void *data, plm_error *err);
 
-/* Reads any supported file as float; *pixels is malloc'd (caller frees). */
+/* Reads a file as float with the reader of the format its extension names
+ * (EXR, PNG, HDR, TIFF, JPEG...); *pixels is malloc'd (caller frees). */
 plm_result plm_image_read(const char *path, int *width, int *height, int *channels, float **pixels,
                           plm_error *err);
 

@@ -92,7 +92,7 @@ plm_result plm_json_number(const plm_json_reader *r, const cJSON *obj, const cha
         return plm_json_fail(r, path, key, "expected a number in [%.10g, %.10g]", lo, hi);
     double v = item->valuedouble;
     if (!(v >= lo && v <= hi))
-        return plm_json_fail(r, path, key, "%g is out of range [%.10g, %.10g]", v, lo, hi);
+        return plm_json_fail(r, path, key, "%.10g is out of range [%.10g, %.10g]", v, lo, hi);
     *out = v;
     return PLM_OK;
 }
@@ -112,7 +112,7 @@ plm_result plm_json_int(const plm_json_reader *r, const cJSON *obj, const char *
     if (!(v >= lo && v <= hi))
         return plm_json_fail(r, path, key, "%g is out of range [%d, %d]", v, lo, hi);
     if (v != (double)(int)v)
-        return plm_json_fail(r, path, key, "%g is not a whole number in [%d, %d]", v, lo, hi);
+        return plm_json_fail(r, path, key, "%.10g is not a whole number in [%d, %d]", v, lo, hi);
     *out = (int)v;
     return PLM_OK;
 }
@@ -176,11 +176,11 @@ static plm_result json_triple(const plm_json_reader *r, const cJSON *obj, const 
         return PLM_OK;
     }
     if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 3)
-        return plm_json_fail(r, path, key, "expected an array of 3 numbers in [%g, %g]", lo, hi);
+        return plm_json_fail(r, path, key, "expected an array of 3 numbers in [%.10g, %.10g]", lo, hi);
     for (int i = 0; i < 3; ++i) {
         const cJSON *e = cJSON_GetArrayItem(item, i);
         if (!cJSON_IsNumber(e) || !(e->valuedouble >= lo && e->valuedouble <= hi))
-            return plm_json_fail(r, path, key, "element %d must be a number in [%g, %g]", i, lo, hi);
+            return plm_json_fail(r, path, key, "element %d must be a number in [%.10g, %.10g]", i, lo, hi);
         out[i] = e->valuedouble;
     }
     return PLM_OK;

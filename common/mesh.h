@@ -1,5 +1,6 @@
 /* A triangle mesh as plain arrays: what the generator produces and the
- * renderer consumes. Files go through OpenMesh (adapter: common/mesh_io.cpp).
+ * renderer consumes. Files are written through OpenMesh (adapter:
+ * common/mesh_io.cpp) and read by plumage's own readers (common/mesh_read.c).
  * Floats, because Embree takes floats. */
 #ifndef PLUMAGE_COMMON_MESH_H
 #define PLUMAGE_COMMON_MESH_H
@@ -20,7 +21,12 @@ typedef struct plm_mesh {
 /* Frees the arrays and zeroes the struct. */
 void plm_mesh_free(plm_mesh *mesh);
 
-/* PLY or OBJ by extension, through OpenMesh. */
+/* Limits of what plm_mesh_read accepts: files of at most 1 GiB, arrays
+ * (floats or indices) of at most 2^30 entries. */
+#define PLM_MESH_FILE_MAX ((size_t)1 << 30)
+#define PLM_MESH_MAX_ELEMENTS (1 << 30)
+
+/* PLY or OBJ by extension (common/mesh_read.c); writes go through OpenMesh. */
 plm_result plm_mesh_read(const char *path, plm_mesh *out, plm_error *err);
 plm_result plm_mesh_write(const char *path, const plm_mesh *mesh, plm_error *err);
 

@@ -1,4 +1,5 @@
-// OpenMesh adapter behind common/mesh.h: PLY and OBJ files of a plm_mesh.
+// OpenMesh adapter behind common/mesh.h: writes PLY and OBJ files of a
+// plm_mesh (common/mesh_read.c reads them).
 //
 // PLY (binary, little endian) carries positions, normals, uvs and tangents.
 // The uvs are named "s", "t", the names most PLY readers know (Blender 3.4
@@ -8,11 +9,14 @@
 // both travel as its custom persistent properties (see docs/assets.md).
 // OBJ has no place for tangents:
 // it carries positions, normals and uvs, and readers derive tangents from the
-// uvs. Writes go to a temporary file beside the destination and are renamed
-// into place, so a failed write leaves nothing behind.
+// uvs. The bytes go out through plm_write_file (common/fileio.h): a temporary
+// file beside the destination renamed into place, so a failed write leaves
+// nothing behind.
 // OpenMesh's property vectors default-construct uninitialised points, which
 // gcc 12 reports inside its headers; nothing of ours is affected.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -22,11 +26,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <sstream>
 
 extern "C" {
 #include "common/fileio.h"
 #include "common/mesh.h"
 }
+#include "common/adapter_guard.hpp"
 
 namespace {
 
@@ -122,53 +128,6 @@ plm_result build_om_mesh(const char *path, const plm_mesh *m, bool ply, om_mesh 
     return PLM_OK;
 }
 
-// Copies a read OpenMesh mesh into malloc'd plm_mesh arrays.
-plm_result copy_from_om(const char *path, const om_mesh &om, const OpenMesh::IO::Options &opt, plm_mesh *out,
-                        plm_error *err)
-{
-    size_t nv = om.n_vertices(), nf = om.n_faces();
-    if (nv == 0 || nf == 0)
-        return plm_fail(err, PLM_ERR_PARSE, "%s: the file holds no triangles", path);
-    if (nv > 0x7fffffffu || nf > 0x7fffffffu)
-        return plm_fail(err, PLM_ERR_PARSE, "%s: too many vertices or triangles", path);
-    OpenMesh::VPropHandleT<float> th[3];
-    bool has_tangents = true;
-    for (int c = 0; c < 3; ++c)
-        has_tangents = om.get_property_handle(th[c], tangent_names[c]) && has_tangents;
-    out->vertex_count = (int)nv;
-    out->triangle_count = (int)nf;
-    out->positions = (float *)std::malloc(3 * nv * sizeof(float));
-    out->normals = opt.vertex_has_normal() ? (float *)std::malloc(3 * nv * sizeof(float)) : nullptr;
-    out->uvs = opt.vertex_has_texcoord() ? (float *)std::malloc(2 * nv * sizeof(float)) : nullptr;
-    out->tangents = has_tangents ? (float *)std::malloc(3 * nv * sizeof(float)) : nullptr;
-    out->indices = (uint32_t *)std::malloc(3 * nf * sizeof(uint32_t));
-    if (!out->positions || !out->indices || (opt.vertex_has_normal() && !out->normals) ||
-        (opt.vertex_has_texcoord() && !out->uvs) || (has_tangents && !out->tangents))
-        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory", path);
-    for (om_mesh::VertexIter v = om.vertices_begin(); v != om.vertices_end(); ++v) {
-        size_t i = (size_t)v->idx();
-        const om_mesh::Point &p = om.point(*v);
-        std::memcpy(out->positions + 3 * i, p.data(), 3 * sizeof(float));
-        if (out->normals)
-            std::memcpy(out->normals + 3 * i, om.normal(*v).data(), 3 * sizeof(float));
-        if (out->uvs)
-            std::memcpy(out->uvs + 2 * i, om.texcoord2D(*v).data(), 2 * sizeof(float));
-        for (int c = 0; has_tangents && c < 3; ++c)
-            out->tangents[3 * i + c] = om.property(th[c], *v);
-    }
-    for (om_mesh::FaceIter f = om.faces_begin(); f != om.faces_end(); ++f) {
-        uint32_t *idx = out->indices + 3 * (size_t)f->idx();
-        int k = 0;
-        for (om_mesh::ConstFaceVertexCCWIter fv = om.cfv_ccwbegin(*f); fv.is_valid() && k < 3; ++fv)
-            idx[k++] = (uint32_t)fv->idx();
-    }
-    size_t n = 3 * nv;
-    if (!all_finite(out->positions, n) || (out->normals && !all_finite(out->normals, n)) ||
-        (out->uvs && !all_finite(out->uvs, 2 * nv)) || (out->tangents && !all_finite(out->tangents, n)))
-        return plm_fail(err, PLM_ERR_PARSE, "%s: the file has a non-finite vertex attribute", path);
-    return PLM_OK;
-}
-
 } // namespace
 
 extern "C" void plm_mesh_free(plm_mesh *mesh)
@@ -183,7 +142,7 @@ extern "C" void plm_mesh_free(plm_mesh *mesh)
     std::memset(mesh, 0, sizeof *mesh);
 }
 
-extern "C" plm_result plm_mesh_write(const char *path, const plm_mesh *mesh, plm_error *err)
+static plm_result mesh_write(const char *path, const plm_mesh *mesh, plm_error *err)
 {
     char ext[16];
     if (!is_supported_extension(path, ext, sizeof ext))
@@ -203,56 +162,22 @@ extern "C" plm_result plm_mesh_write(const char *path, const plm_mesh *mesh, plm
         opt += OpenMesh::IO::Options::VertexTexCoord;
     if (mesh->tangents || (mesh->uvs && ply))
         opt += OpenMesh::IO::Options::Custom;
-    char temp[4096];
-    plm_temp_path_for(path, temp, sizeof temp);
-    // OpenMesh does not say why a write failed; creating the file first does.
-    FILE *fp = std::fopen(temp, "wb");
-    if (!fp)
-        return plm_fail(err, PLM_ERR_IO, "%s: cannot create file: %s", path, std::strerror(errno));
-    std::fclose(fp);
+    // OpenMesh writes into memory and plumage writes the bytes, so that a full
+    // disk or an unwritable folder is reported as it is and nothing is left half-written.
+    std::ostringstream bytes(std::ios::out | std::ios::binary);
     bool ok = false;
     try {
-        ok = OpenMesh::IO::write_mesh(om, temp, opt, 9);
-    } catch (const std::exception &) {
-        ok = false;
-    }
-    if (!ok) {
-        std::remove(temp);
-        return plm_fail(err, PLM_ERR_IO, "%s: the OpenMesh writer failed", path);
-    }
-    if (std::rename(temp, path) != 0) {
-        std::remove(temp);
-        return plm_fail(err, PLM_ERR_IO, "%s: cannot rename into place", path);
-    }
-    return PLM_OK;
-}
-
-extern "C" plm_result plm_mesh_read(const char *path, plm_mesh *out, plm_error *err)
-{
-    std::memset(out, 0, sizeof *out);
-    char ext[16];
-    if (!is_supported_extension(path, ext, sizeof ext))
-        return plm_fail(err, PLM_ERR_INVALID, "%s: unsupported mesh format '.%s' (use .ply or .obj)", path, ext);
-    FILE *probe = std::fopen(path, "rb");
-    if (!probe)
-        return plm_fail(err, PLM_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
-    std::fclose(probe);
-    quiet_openmesh();
-    om_mesh om;
-    om.request_vertex_normals();
-    om.request_vertex_texcoords2D();
-    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal | OpenMesh::IO::Options::VertexTexCoord |
-                                OpenMesh::IO::Options::Custom;
-    bool ok = false;
-    try {
-        ok = OpenMesh::IO::read_mesh(om, path, opt);
+        ok = OpenMesh::IO::write_mesh(om, bytes, ext, opt, 9);
     } catch (const std::exception &) {
         ok = false;
     }
     if (!ok)
-        return plm_fail(err, PLM_ERR_PARSE, "%s: not a readable %s mesh", path, ext);
-    plm_result rc = copy_from_om(path, om, opt, out, err);
-    if (rc != PLM_OK)
-        plm_mesh_free(out);
-    return rc;
+        return plm_fail(err, PLM_ERR_INTERNAL, "%s: the OpenMesh writer failed", path);
+    const std::string data = bytes.str();
+    return plm_write_file(path, data.data(), data.size(), err);
+}
+
+extern "C" plm_result plm_mesh_write(const char *path, const plm_mesh *mesh, plm_error *err)
+{
+    return plm_guard(err, path, [&] { return mesh_write(path, mesh, err); });
 }

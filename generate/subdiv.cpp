@@ -12,6 +12,7 @@
 extern "C" {
 #include "generate/subdiv.h"
 }
+#include "common/adapter_guard.hpp"
 
 using namespace OpenSubdiv;
 
@@ -72,8 +73,8 @@ std::vector<primvar> load(const double *values, int count, int width)
 
 } // namespace
 
-extern "C" plm_result plm_subdiv_fit(const plm_subdiv_cage *cage, double *values, int iterations, double *residual,
-                                     plm_error *err)
+static plm_result subdiv_fit(const plm_subdiv_cage *cage, double *values, int iterations, double *residual,
+                             plm_error *err)
 {
     plm_result rc = check_cage(cage, err);
     if (rc != PLM_OK)
@@ -106,10 +107,9 @@ extern "C" plm_result plm_subdiv_fit(const plm_subdiv_cage *cage, double *values
     return PLM_OK;
 }
 
-extern "C" plm_result plm_subdiv_refine(const plm_subdiv_cage *cage, const double *values, int level,
-                                        plm_subdiv_limit *out, plm_error *err)
+static plm_result subdiv_refine(const plm_subdiv_cage *cage, const double *values, int level, plm_subdiv_limit *out,
+                                plm_error *err)
 {
-    std::memset(out, 0, sizeof *out);
     plm_result rc = check_cage(cage, err);
     if (rc != PLM_OK)
         return rc;
@@ -156,6 +156,19 @@ extern "C" plm_result plm_subdiv_refine(const plm_subdiv_cage *cage, const doubl
             out->quads[4 * f + k] = fv[k];
     }
     return PLM_OK;
+}
+
+extern "C" plm_result plm_subdiv_fit(const plm_subdiv_cage *cage, double *values, int iterations, double *residual,
+                                     plm_error *err)
+{
+    return plm_guard(err, "subdivision fit", [&] { return subdiv_fit(cage, values, iterations, residual, err); });
+}
+
+extern "C" plm_result plm_subdiv_refine(const plm_subdiv_cage *cage, const double *values, int level,
+                                        plm_subdiv_limit *out, plm_error *err)
+{
+    std::memset(out, 0, sizeof *out);
+    return plm_guard(err, "subdivision", [&] { return subdiv_refine(cage, values, level, out, err); });
 }
 
 extern "C" void plm_subdiv_limit_free(plm_subdiv_limit *l)

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "common/rng.h"
+#include "render/embree.h"
 
 enum { KIND_BARB, KIND_PROXIMAL, KIND_DISTAL };
 
@@ -21,7 +22,7 @@ typedef struct solid {
 } solid;
 
 struct plm_masking_reference {
-    RTCDevice device;
+    plm_embree embree;
     RTCScene scene;
     solid *solids;
     unsigned count;
@@ -226,13 +227,12 @@ plm_result plm_masking_reference_create(const plm_masking_params *p, const plm_m
         plm_masking_reference_destroy(ref);
         return r;
     }
-    ref->device = rtcNewDevice(NULL);
-    if (!ref->device) {
+    if ((r = plm_embree_open(&ref->embree, 0, err)) != PLM_OK) {
         plm_masking_reference_destroy(ref);
-        return plm_fail(err, PLM_ERR_INTERNAL, "masking reference: Embree device creation failed");
+        return r;
     }
-    ref->scene = rtcNewScene(ref->device);
-    RTCGeometry geom = rtcNewGeometry(ref->device, RTC_GEOMETRY_TYPE_USER);
+    ref->scene = rtcNewScene(ref->embree.device);
+    RTCGeometry geom = rtcNewGeometry(ref->embree.device, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(geom, ref->count);
     rtcSetGeometryUserData(geom, ref->solids);
     rtcSetGeometryBoundsFunction(geom, solid_bounds_cb, NULL);
@@ -241,9 +241,9 @@ plm_result plm_masking_reference_create(const plm_masking_params *p, const plm_m
     rtcAttachGeometry(ref->scene, geom);
     rtcReleaseGeometry(geom);
     rtcCommitScene(ref->scene);
-    if (rtcGetDeviceError(ref->device) != RTC_ERROR_NONE) {
+    if ((r = plm_embree_check(&ref->embree, "masking reference", err)) != PLM_OK) {
         plm_masking_reference_destroy(ref);
-        return plm_fail(err, PLM_ERR_INTERNAL, "masking reference: Embree scene build failed");
+        return r;
     }
     *out = ref;
     return PLM_OK;
@@ -255,8 +255,7 @@ void plm_masking_reference_destroy(plm_masking_reference *ref)
         return;
     if (ref->scene)
         rtcReleaseScene(ref->scene);
-    if (ref->device)
-        rtcReleaseDevice(ref->device);
+    plm_embree_close(&ref->embree);
     free(ref->solids);
     free(ref);
 }

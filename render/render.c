@@ -151,6 +151,10 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
 {
     const plm_film_desc *fd = &world->scene->film;
     memset(film, 0, sizeof *film);
+    /* The film is an image like any other: refused before allocating if over the limit. */
+    plm_result rc = plm_image_check_size("film.width x film.height", fd->width, fd->height, 3, err);
+    if (rc != PLM_OK)
+        return rc;
     film->width = fd->width;
     film->height = fd->height;
     film->threads = opt->threads > 0 ? opt->threads : default_threads();
@@ -233,6 +237,8 @@ plm_result plm_render(const plm_scene *scene, const plm_render_options *opt, plm
     if (rc != PLM_OK)
         return rc;
     rc = plm_render_world(&world, opt, film, err);
+    if (rc == PLM_OK && (rc = plm_embree_check(&world.embree, "tracing rays", err)) != PLM_OK)
+        plm_film_free(film);
     plm_world_free(&world);
     return rc;
 }

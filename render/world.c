@@ -5,6 +5,7 @@
 #include "render/feather_bsdf.h"
 
 #include <float.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,7 +113,7 @@ static int all_background(const plm_mesh *m, const plm_feather_texture *t, int t
     return 1;
 }
 
-static plm_result build_prototype(RTCDevice device, plm_prototype *p, plm_error *err)
+static plm_result build_prototype(plm_embree *embree, plm_prototype *p, plm_error *err)
 {
     const plm_mesh *m = p->mesh;
     p->triangle = malloc(sizeof *p->triangle * (size_t)(m->triangle_count + 1));
@@ -129,18 +130,19 @@ static plm_result build_prototype(RTCDevice device, plm_prototype *p, plm_error 
         p->lo = v3(fmin(p->lo.x, q.x), fmin(p->lo.y, q.y), fmin(p->lo.z, q.z));
         p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
     }
+    RTCDevice device = embree->device;
     p->rtc = rtcNewScene(device);
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                        (size_t)m->vertex_count);
     unsigned *t = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
                                           (size_t)(kept > 0 ? kept : 1));
-    if (!v || !t) {
+    char what[64];
+    snprintf(what, sizeof what, "a mesh of %d triangles", m->triangle_count);
+    if (!v || !t) { /* Embree has reported why */
         rtcReleaseGeometry(g);
-        rtcReleaseScene(p->rtc);
-        p->rtc = NULL;
-        return plm_fail(err, PLM_ERR_NO_MEMORY, "Embree could not allocate a mesh of %d triangles",
-                        m->triangle_count);
+        plm_result rc = plm_embree_check(embree, what, err);
+        return rc != PLM_OK ? rc : plm_fail(err, PLM_ERR_NO_MEMORY, "Embree, %s: no buffer", what);
     }
     memcpy(v, m->positions, sizeof(float) * 3 * (size_t)m->vertex_count);
     for (int i = 0; i < kept; ++i)
@@ -156,7 +158,7 @@ static plm_result build_prototype(RTCDevice device, plm_prototype *p, plm_error 
     rtcAttachGeometry(p->rtc, g);
     rtcReleaseGeometry(g);
     rtcCommitScene(p->rtc);
-    return PLM_OK;
+    return plm_embree_check(embree, what, err);
 }
 
 static const plm_feather_texture *material_mask(const plm_material *m)
@@ -190,7 +192,7 @@ static plm_result build_prototypes(plm_world *w, plm_error *err)
             w->prototypes[k].mask = mask;
             w->prototypes[k].transmissive = transmissive;
             w->prototype_count++; /* counted first, so plm_world_free releases a half-built one */
-            plm_result rc = build_prototype(w->device, &w->prototypes[k], err);
+            plm_result rc = build_prototype(&w->embree, &w->prototypes[k], err);
             if (rc != PLM_OK)
                 return rc;
         }
@@ -205,10 +207,10 @@ static void grow_bounds(plm_world *w, vec3 p)
     w->bounds_max = v3(fmax(w->bounds_max.x, p.x), fmax(w->bounds_max.y, p.y), fmax(w->bounds_max.z, p.z));
 }
 
-static void build_instances(plm_world *w)
+static plm_result build_instances(plm_world *w, plm_error *err)
 {
     const plm_scene *s = w->scene;
-    w->top = rtcNewScene(w->device);
+    w->top = rtcNewScene(w->embree.device);
     w->bounds_min = v3(INFINITY, INFINITY, INFINITY);
     w->bounds_max = v3(-INFINITY, -INFINITY, -INFINITY);
     for (int i = 0; i < s->instance_count; ++i) {
@@ -216,7 +218,7 @@ static void build_instances(plm_world *w)
         float m[12];
         for (int k = 0; k < 12; ++k)
             m[k] = (float)in->xform.m[k / 4][k % 4];
-        RTCGeometry g = rtcNewGeometry(w->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        RTCGeometry g = rtcNewGeometry(w->embree.device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, w->prototypes[w->instance_prototype[i]].rtc);
         rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, m);
         rtcCommitGeometry(g);
@@ -231,6 +233,9 @@ static void build_instances(plm_world *w)
     rtcCommitScene(w->top);
     if (s->instance_count == 0)
         w->bounds_min = w->bounds_max = v3(0.0, 0.0, 0.0);
+    char what[64];
+    snprintf(what, sizeof what, "the scene of %d instances", s->instance_count);
+    return plm_embree_check(&w->embree, what, err);
 }
 
 static void build_camera(plm_world *w)
@@ -277,16 +282,15 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
 {
     memset(w, 0, sizeof *w);
     w->scene = scene;
-    w->device = rtcNewDevice(NULL);
-    if (!w->device)
-        return plm_fail(err, PLM_ERR_INTERNAL, "Embree: cannot create a device (error %d)",
-                        (int)rtcGetDeviceError(NULL));
-    plm_result rc = build_prototypes(w, err);
+    plm_result rc = plm_embree_open(&w->embree, 0, err);
+    if (rc == PLM_OK)
+        rc = build_prototypes(w, err);
+    if (rc == PLM_OK)
+        rc = build_instances(w, err);
     if (rc != PLM_OK) {
         plm_world_free(w);
         return rc;
     }
-    build_instances(w);
     build_camera(w);
     double extent = fmax(fmax(fabs(w->bounds_min.x), fabs(w->bounds_max.x)),
                          fmax(fmax(fabs(w->bounds_min.y), fabs(w->bounds_max.y)),
@@ -332,8 +336,7 @@ void plm_world_free(plm_world *w)
     }
     free(w->prototypes);
     free(w->instance_prototype);
-    if (w->device)
-        rtcReleaseDevice(w->device);
+    plm_embree_close(&w->embree);
     memset(w, 0, sizeof *w);
 }
 

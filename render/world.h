@@ -7,6 +7,7 @@
 #include <embree3/rtcore.h>
 
 #include "render/bsdf.h"
+#include "render/embree.h"
 #include "render/light.h"
 #include "render/scene.h"
 
@@ -30,7 +31,7 @@ typedef struct plm_camera {
 
 typedef struct plm_world {
     const plm_scene *scene;
-    RTCDevice device;
+    plm_embree embree;
     RTCScene top;
     plm_prototype *prototypes;
     int prototype_count;
