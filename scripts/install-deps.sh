@@ -4,6 +4,9 @@
 #   scripts/install-deps.sh --slurm   also Slurm and munge, for the opt-in `slurm`
 #                                     tests (CI only: this puts scheduler daemons on
 #                                     the machine, which a plain install never does)
+#   scripts/install-deps.sh --fuzz    also clang 14 and its compiler-rt (libFuzzer and
+#                                     the sanitizers) for the PLUMAGE_FUZZ build
+#                                     (docs/robustness.md)
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
           libembree-dev libopenimageio-dev openimageio-tools libosd-dev libopenmesh-dev
@@ -11,7 +14,8 @@ packages=(build-essential cmake ninja-build pkg-config
 for arg in "$@"; do
     case "$arg" in
     --slurm) packages+=(slurmctld slurmd slurm-client munge) ;;
-    *) echo "usage: $0 [--slurm]" >&2; exit 2 ;;
+    --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "usage: $0 [--slurm] [--fuzz]" >&2; exit 2 ;;
     esac
 done
 missing=()
