@@ -83,16 +83,19 @@ bad "a 10^5 x 10^5 environment map" '{"lights": [{"type": "environment", "file":
 # Memory running out (an address space limit; the sanitizers need all of theirs, so not there):
 # a clear error, no abort, whether C (malloc) or C++ (OpenSubdiv's vectors) ran out.
 if [ "${PLUMAGE_SANITIZE:-OFF}" != "ON" ]; then
-    oom() {
-        (ulimit -v 700000; "$PLUMAGE" "$@") >out.txt 2>err.txt
+    oom() { # oom NAME ARGS...: 300 MB of address space
+        local n=$1; shift
+        (ulimit -v 300000; "$PLUMAGE" "$@") >out.txt 2>err.txt
         local status=$?
-        if [ $status -ne 0 ] && [ $status -lt 128 ] && grep -q "out of memory" err.txt; then pass "$1 out of memory"
-        else fail "$1 out of memory (exit $status): $(head -c 300 err.txt)"; fi
+        if [ $status -ne 0 ] && [ $status -lt 128 ] && grep -q "out of memory" err.txt; then pass "$n"
+        else fail "$n (exit $status): $(head -c 300 err.txt)"; fi
     }
-    oom generate --species "$SPECIES" -o oom_texture --level 1 --texture-size 8192
-    oom generate --species "$PLUMAGE_SOURCE_DIR/presets/species/remex_pigeon.json" -o oom_mesh --level 6 --texture-size 8
+    oom "an 8192x8192 texture out of memory (malloc)" \
+        generate --species "$SPECIES" -o oom_texture --level 1 --texture-size 8192
+    oom "a level 6 feather out of memory (OpenSubdiv's C++ vectors)" \
+        generate --species "$PLUMAGE_SOURCE_DIR/presets/species/remex_pigeon.json" -o oom_mesh --level 6 --texture-size 8
     sed 's/"width": 64, "height": 48/"width": 8192, "height": 8192/' small.json > huge_film.json
-    oom render huge_film.json --quiet -o huge_film.png
+    oom "an 8192x8192 film out of memory" render huge_film.json --quiet -o huge_film.png
     [ ! -e oom_texture ] && [ ! -e huge_film.png ] && pass "nothing written when memory ran out" \
         || fail "nothing written when memory ran out"
 fi

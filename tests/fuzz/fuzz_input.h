@@ -1,8 +1,8 @@
-/* What every harness shares. libFuzzer hands a harness bytes in memory, but
- * plumage's readers take a path (OpenImageIO and OpenMesh open files
- * themselves), so the bytes go to a file of the harness's name in a private
- * directory made once per process and removed at exit. A failed read must
- * explain itself: an empty message is reported as a crash. */
+/* What every harness shares. libFuzzer hands a harness bytes in memory; the
+ * scene reader takes them as they are, the others take a path (OpenImageIO
+ * opens files itself), so there the bytes go to a file of the harness's name
+ * in a private directory made once per process and removed at exit. A failed
+ * read must explain itself: an empty message is reported as a crash. */
 #ifndef PLUMAGE_TESTS_FUZZ_INPUT_H
 #define PLUMAGE_TESTS_FUZZ_INPUT_H
 
@@ -24,8 +24,9 @@ static void fuzz_cleanup(void)
     rmdir(fuzz_dir);
 }
 
-/* Writes data to <private dir>/name and returns that path. */
-static const char *fuzz_write_input(const uint8_t *data, size_t size, const char *name)
+/* <private dir>/name: where a harness's input lives, so that relative paths
+ * an input names resolve in an empty directory. */
+static const char *fuzz_input_path(const char *name)
 {
     if (!fuzz_dir[0]) {
         const char *tmp = getenv("TMPDIR");
@@ -37,6 +38,13 @@ static const char *fuzz_write_input(const uint8_t *data, size_t size, const char
         snprintf(fuzz_path, sizeof fuzz_path, "%s/%s", fuzz_dir, name);
         atexit(fuzz_cleanup);
     }
+    return fuzz_path;
+}
+
+/* Writes data to fuzz_input_path(name) and returns that path. */
+static const char *fuzz_write_input(const uint8_t *data, size_t size, const char *name)
+{
+    fuzz_input_path(name);
     FILE *fp = fopen(fuzz_path, "wb");
     if (!fp || fwrite(data, 1, size, fp) != size || fclose(fp) != 0) {
         perror("fuzz: writing the input");
