@@ -110,7 +110,7 @@ plm_result plm_json_int(const plm_json_reader *r, const cJSON *obj, const char *
         return plm_json_fail(r, path, key, "expected a number in [%d, %d]", lo, hi);
     double v = item->valuedouble;
     if (!(v >= lo && v <= hi))
-        return plm_json_fail(r, path, key, "%g is out of range [%d, %d]", v, lo, hi);
+        return plm_json_fail(r, path, key, "%.10g is out of range [%d, %d]", v, lo, hi);
     if (v != (double)(int)v)
         return plm_json_fail(r, path, key, "%.10g is not a whole number in [%d, %d]", v, lo, hi);
     *out = (int)v;
