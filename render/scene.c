@@ -80,9 +80,10 @@ void plm_scene_free(plm_scene *scene)
         plm_mesh_free(&scene->meshes[i].mesh);
     for (int i = 0; i < scene->material_count; ++i) {
         plm_feather_texture_free(&scene->materials[i].texture);
-        if (scene->materials[i].feather)
+        if (scene->materials[i].feather && !scene->materials[i].shares_feather) {
             plm_feather_params_free_tables(scene->materials[i].feather);
-        free(scene->materials[i].feather);
+            free(scene->materials[i].feather);
+        }
         free(scene->materials[i].pigment.pixels);
     }
     free(scene->lights);

@@ -70,6 +70,8 @@ typedef struct plm_material {
     double transmission; /* diffuse: fraction of light passing straight through (a perforated sheet) */
     plm_feather_texture texture;             /* feather only */
     struct plm_feather_params *feather;      /* feather only, malloc'd */
+    int shares_feather; /* feather belongs to an earlier material: feathers of one species share their
+                           optics and so their fiber tables (tens of MB each) */
     /* Feather only: the generator's pigment image (channels in
      * common/feather_texture_contract.h; no pixels = none) and the colours
      * it mixes in: a texel's scattered colour is multiplied by

@@ -19,6 +19,7 @@ struct plm_feather_cache_entry {
     int level, texture_size, variant, given_shape;
     uint64_t seed;
     plm_feather_parts parts;
+    cJSON *optics; /* the species' optics block, to share parameters between equal ones */
 };
 
 static void normalise(plm_feather_request *q)
@@ -42,7 +43,8 @@ static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm
 
 /* The species file parsed twice over: its shape and pigment by generate/,
  * its optics block (which generate/ does not keep) into the feather material. */
-static plm_result read_species(const char *file, plm_species *species, plm_material *feather, plm_error *err)
+static plm_result read_species(const char *file, plm_species *species, plm_material *feather, cJSON **optics_out,
+                               plm_error *err)
 {
     static const char *const optics_keys[] = {"barb", "barbule", "masking", NULL};
     cJSON *root = NULL;
@@ -58,6 +60,8 @@ static plm_result read_species(const char *file, plm_species *species, plm_mater
         plm_json_reader r = {file, err};
         rc = optics ? plm_feather_optics_read(&r, optics, "optics", optics_keys, feather)
                     : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+        if (rc == PLM_OK && !(*optics_out = cJSON_Duplicate(optics, 1)))
+            rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
         if (rc != PLM_OK)
             plm_species_free(species);
     }
@@ -74,8 +78,17 @@ static double extent_y(const plm_mesh *m)
 }
 
 /* Generates the feather and adds its two meshes and two materials. */
-static plm_result generate(plm_scene *scene, const char *name, const plm_feather_request *q, plm_feather_parts *out,
-                           plm_error *err)
+/* An earlier feather's parameters read from the same optics block, or NULL. */
+static struct plm_feather_params *same_optics(const plm_feather_cache *c, const plm_scene *scene, const cJSON *optics)
+{
+    for (int i = 0; i < c->count; ++i)
+        if (cJSON_Compare(c->entries[i].optics, optics, 1))
+            return scene->materials[c->entries[i].parts.material[0]].feather;
+    return NULL;
+}
+
+static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, const char *name,
+                           const plm_feather_request *q, plm_feather_parts *out, cJSON **optics, plm_error *err)
 {
     char vane_name[PLM_NAME_MAX], rachis_name[PLM_NAME_MAX];
     if (strlen(name) > FEATHER_NAME_MAX)
@@ -89,9 +102,17 @@ static plm_result generate(plm_scene *scene, const char *name, const plm_feather
     plm_material feather, rachis;
     memset(&feather, 0, sizeof feather);
     memset(&rachis, 0, sizeof rachis);
-    plm_result rc = read_species(q->species, &species, &feather, err);
+    plm_result rc = read_species(q->species, &species, &feather, optics, err);
     if (rc != PLM_OK)
         return rc;
+    /* Variants (and species) that differ in shape and pigment but not in
+     * optics share one set of feather parameters, and so their fiber tables. */
+    struct plm_feather_params *shared = same_optics(cache, scene, *optics);
+    if (shared) {
+        free(feather.feather);
+        feather.feather = shared;
+        feather.shares_feather = 1;
+    }
     /* A variant is another individual of the species: its own random choices. */
     plm_shape shape;
     plm_pigment pigment;
@@ -130,7 +151,8 @@ static plm_result generate(plm_scene *scene, const char *name, const plm_feather
     }
     if (!taken) {
         plm_feather_texture_free(&feather.texture);
-        free(feather.feather);
+        if (!feather.shares_feather)
+            free(feather.feather);
         free(feather.pigment.pixels);
     }
     plm_feather_free(&f);
@@ -159,9 +181,12 @@ plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, con
         cache->capacity = cap;
     }
     memset(out, 0, sizeof *out);
-    plm_result rc = generate(scene, name, &q, out, err);
-    if (rc != PLM_OK)
+    cJSON *optics = NULL;
+    plm_result rc = generate(cache, scene, name, &q, out, &optics, err);
+    if (rc != PLM_OK) {
+        cJSON_Delete(optics);
         return rc;
+    }
     plm_feather_cache_entry *e = &cache->entries[cache->count++];
     snprintf(e->species, sizeof e->species, "%s", q.species);
     e->level = q.level;
@@ -169,12 +194,15 @@ plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, con
     e->variant = q.variant;
     e->seed = q.seed;
     e->given_shape = q.shape != NULL;
+    e->optics = optics;
     e->parts = *out;
     return PLM_OK;
 }
 
 void plm_feather_cache_free(plm_feather_cache *cache)
 {
+    for (int i = 0; i < cache->count; ++i)
+        cJSON_Delete(cache->entries[i].optics);
     free(cache->entries);
     memset(cache, 0, sizeof *cache);
 }

@@ -298,6 +298,11 @@ static void species_feathers_are_generated_once(void **state)
     assert_int_not_equal(s.instances[0].mesh, s.instances[4].mesh);
     assert_int_equal(plm_scene_find_mesh(&s, "a.vane"), s.instances[0].mesh);
     assert_int_equal(s.materials[s.instances[0].material].type, PLM_MATERIAL_FEATHER);
+    /* The variant has its own texture but shares the species' optics (and fiber tables). */
+    const plm_material *ma = &s.materials[s.instances[0].material], *mc = &s.materials[s.instances[4].material];
+    assert_ptr_equal(ma->feather, mc->feather);
+    assert_true(mc->shares_feather && !ma->shares_feather);
+    assert_ptr_not_equal(ma->texture.pixels, mc->texture.pixels);
     plm_scene_free(&s);
     /* A species file's errors name the scene field that named it. */
     snprintf(text, sizeof text, "{\"feathers\": {\"x\": {\"species\": \"%s/no_such_species.json\"}}}", dir);
