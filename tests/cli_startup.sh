@@ -26,7 +26,7 @@ else
 fi
 
 expect_ok "the module writes a picture" "$PLUMAGE" probe masking --figure fig.png --width 16
-[ -s fig.png ] && pass "picture written" || fail "picture written"
+expect_image "picture written (size, finite, not black)" "[0-9]+" "[0-9]+" fig.png
 PLUMAGE_IMAGE_MODULE=$PWD/nowhere/plumage_image_oiio.so expect_stderr "a missing module names its path" \
     "not found: looked for .*nowhere/plumage_image_oiio.so" "$PLUMAGE" probe masking --figure missing.png --width 16
 [ -e missing.png ] && fail "no output without the module" || pass "no output without the module"
@@ -41,7 +41,7 @@ if [ -n "${PLUMAGE_BUILD_DIR:-}" ]; then
     echo "$libs" | grep -q "file=$PWD/prefix/bin/\.\./lib.*/plumage/plumage_image_oiio.so" \
         && pass "the installed plumage opens the installed module" \
         || fail "the installed plumage opens the installed module: $(echo "$libs" | grep plumage)"
-    [ -s installed.png ] && pass "the installed plumage writes a picture" || fail "the installed plumage writes a picture"
+    expect_image "the installed plumage writes a picture" "[0-9]+" "[0-9]+" installed.png
 else
     echo "skip install layout: PLUMAGE_BUILD_DIR is not set (ctest sets it)"
 fi
