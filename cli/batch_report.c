@@ -15,6 +15,7 @@
 #define SHEET_FONT 13
 #define SHEET_LINE 17
 #define SHEET_GAP 6
+#define SHEET_CHAR_W 8 /* an upper bound of the font's mean advance at SHEET_FONT, to fit the labels */
 
 static int count_lines(const char *s)
 {
@@ -22,6 +23,16 @@ static int count_lines(const char *s)
     for (; *s; ++s)
         n += *s == '\n';
     return n;
+}
+
+static int longest_line(const char *s)
+{
+    int most = 0, n = 0;
+    for (; *s; ++s) {
+        n = *s == '\n' ? 0 : n + 1;
+        most = n > most ? n : most;
+    }
+    return most;
 }
 
 /* A sheet cell: the label strip, then the image scaled by a whole factor
@@ -39,12 +50,15 @@ static void layout_sheet(const plm_batch *b, int image_w, int image_h, sheet_lay
     L->zoom = (SHEET_TILE_MIN + image_w - 1) / image_w;
     L->tile_w = image_w * L->zoom / L->shrink;
     L->tile_h = image_h * L->zoom / L->shrink;
-    int lines = 1;
-    for (int j = 0; j < b->m.n_jobs; ++j)
+    int lines = 1, label_w = 0;
+    for (int j = 0; j < b->m.n_jobs; ++j) {
         if (count_lines(b->m.jobs[j].label) > lines)
             lines = count_lines(b->m.jobs[j].label);
+        if (longest_line(b->m.jobs[j].label) * SHEET_CHAR_W > label_w)
+            label_w = longest_line(b->m.jobs[j].label) * SHEET_CHAR_W;
+    }
     L->label_h = lines * SHEET_LINE + SHEET_GAP;
-    L->cell_w = (L->tile_w > 200 ? L->tile_w : 200) + SHEET_GAP;
+    L->cell_w = (L->tile_w > label_w ? L->tile_w : label_w) + SHEET_GAP;
     L->cell_h = L->label_h + L->tile_h + SHEET_GAP;
     L->width = L->cols * L->cell_w + SHEET_GAP;
     L->height = L->rows * L->cell_h + SHEET_GAP;

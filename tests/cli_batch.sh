@@ -47,7 +47,9 @@ n=$(ls sweep/*/summary.json 2>/dev/null | wc -l)
 grep -q '"spp":	2' sweep/0003/summary.json && grep -q '"camera.fov=40"' sweep/0003/summary.json &&
     grep -q '"fnv1a64"' sweep/0003/summary.json && pass "summary has parameters and hashes" || fail "summary content"
 expect_image "job images" 24 16 sweep/*/image.png sweep/*/image.exr
-expect_image "contact sheet" 418 "[0-9]+" sweep/contact_sheet.png
+# 3 rows x 2 columns of cells: each a 24x16 image enlarged 6x (144x96) under two 17-pixel label
+# lines, with 6-pixel gaps: (6 + 2 x (144 + 6)) x (6 + 3 x (2 x 17 + 6 + 96 + 6)).
+expect_image "contact sheet" 306 432 sweep/contact_sheet.png
 [ -s sweep/report.json ] && pass "report written" || fail "report written"
 expect_output "status: all done" "6 jobs: 6 done, 0 failed, 0 killed, 0 missing" "$PLUMAGE" batch sweep.json --status
 expect_ok "a second run" "$PLUMAGE" batch sweep.json
@@ -55,6 +57,10 @@ grep -q "6 already done; 0 to run" err.txt && pass "done jobs are not redone" ||
 expect_ok "one job alone" "$PLUMAGE" batch sweep.json --job 2 -o alone --quiet
 [ -s alone/0002/summary.json ] && [ ! -e alone/0001 ] && pass "--job runs that job only" || fail "--job runs that job only"
 expect_stderr "--job out of range" "--job: 6 is out of range \[0, 5\]" "$PLUMAGE" batch sweep.json --job 6
+
+expect_ok "the preset sweep lists its jobs" "$PLUMAGE" batch "$PLUMAGE_SOURCE_DIR/presets/batches/barbules.json" --dry-run
+[ "$(grep -c 'materials.vane.masking={}.*barbule_separation=' out.txt)" -eq 6 ] && pass "preset sweep: 6 jobs" ||
+    fail "preset sweep: $(cat out.txt)"
 
 # --- resumption after SIGKILL mid-job ---
 cat > kill.json <<'JSON'
