@@ -1,6 +1,7 @@
 # Every scene preset renders at a tiny resolution: the images are finite and
 # not black, and the same at one and two threads (deterministic); and the
-# parameter tables in docs/scene-format.md are the ones the reader checks.
+# parameter tables and the example in docs/scene-format.md are the ones the
+# reader checks and the preset file.
 # usage: bash cli_presets.sh <plumage> <scratch dir>
 set -u
 source "$(dirname "$0")/lib_cli.sh"
@@ -23,6 +24,13 @@ if [ -s tables.md ] && diff -q tables.md documented.md >/dev/null; then
     pass "docs/scene-format.md holds the current parameter tables"
 else
     fail "docs/scene-format.md parameter tables differ from 'plumage params --markdown': $(diff tables.md documented.md | head -5)"
+fi
+# The annotated example is the preset file as it is.
+sed -n '/^```json$/,/^```$/p' "$PLUMAGE_SOURCE_DIR/docs/scene-format.md" | sed '1d;$d' > example.json
+if diff -q example.json "$PLUMAGE_SOURCE_DIR/presets/scenes/pelt_82.json" >/dev/null; then
+    pass "docs/scene-format.md's example is presets/scenes/pelt_82.json"
+else
+    fail "docs/scene-format.md's example differs from presets/scenes/pelt_82.json"
 fi
 expect_stderr "params: unknown block" "unknown block 'lens'" "$PLUMAGE" params lens
 
