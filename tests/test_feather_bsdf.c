@@ -104,6 +104,44 @@ static void texture_lookups_keep_regions_and_angles(void **state)
     plm_feather_texture_free(&t);
 }
 
+/* The pigment image multiplies the colour a vane texel scatters:
+ * mix(1, band_tint, bands) * mix(1, tip_tint, tip) * (1 - barb), texel by
+ * texel (nearest), on top of the instance's tint; rachis texels keep theirs. */
+static void pigment_tints_vane_texels(void **state)
+{
+    (void)state;
+    plm_error err;
+    float *px = malloc(sizeof(float) * 2 * 1 * 3);
+    set_texel(px, 0, plm_radians(90.0), 1.0f), set_texel(px, 1, plm_radians(90.0), 0.5f); /* vane | rachis */
+    plm_material m;
+    memset(&m, 0, sizeof m);
+    m.type = PLM_MATERIAL_FEATHER;
+    plm_feather_material_default(&m);
+    m.band_tint = rgb_make(0.5, 0.25, 1.0);
+    m.tip_tint = rgb_make(0.2, 0.2, 0.2);
+    assert_int_equal(plm_feather_texture_from_pixels(2, 1, px, &m.texture, &err), PLM_OK);
+    static float pigment[2 * 3] = {1.0f, 0.5f, 0.1f, 1.0f, 1.0f, 0.0f}; /* bands, tip, barb per texel */
+    m.pigment = (plm_image){2, 1, 3, pigment};
+    plm_hit hit;
+    memset(&hit, 0, sizeof hit);
+    hit.material = &m;
+    hit.n = v3(0, 0, 1), hit.ng = hit.n, hit.dpdu = v3(1, 0, 0), hit.dpdv = v3(0, 1, 0);
+    hit.tint = rgb_make(0.8, 0.8, 0.8);
+    hit.uv = v2(0.25, 0.5);
+    plm_material_surface(&hit);
+    assert_true(hit.on_vane);
+    /* bands 1: band_tint; tip 0.5: halfway to 0.2 = 0.6; barb 0.1: 0.9; times the instance's 0.8. */
+    assert_double_near(hit.tint.r, 0.8 * 0.5 * 0.6 * 0.9, 1e-6);
+    assert_double_near(hit.tint.g, 0.8 * 0.25 * 0.6 * 0.9, 1e-6);
+    assert_double_near(hit.tint.b, 0.8 * 1.0 * 0.6 * 0.9, 1e-6);
+    hit.tint = rgb_make(0.8, 0.8, 0.8);
+    hit.uv = v2(0.75, 0.5);
+    plm_material_surface(&hit);
+    assert_false(hit.on_vane);
+    assert_double_near(hit.tint.r, 0.8, 0.0);
+    plm_feather_texture_free(&m.texture);
+}
+
 /* White furnace: without absorption the albedo, the integral of f |cos| plus
  * w_t, is 1 minus what the fiber lobes lose (light still inside after N
  * lobes). For each prepared BSDF, the integral of eval equals the weighted
@@ -273,6 +311,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(barb_frame_follows_texture_and_tip),
         cmocka_unit_test(texture_lookups_keep_regions_and_angles),
+        cmocka_unit_test(pigment_tints_vane_texels),
         cmocka_unit_test(white_furnace_of_the_bsdf),
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(prepared_bsdf_is_reproducible_by_seed),
