@@ -126,6 +126,34 @@ static void print_wrapped(FILE *out, const char *text, int col, int indent)
     fputc('\n', out);
 }
 
+static const plm_param *table_field(const plm_param_block *b, const char *field)
+{
+    for (int i = 0; i < b->count; ++i)
+        if (strcmp(b->params[i].name, field) == 0)
+            return &b->params[i];
+    fprintf(stderr, "internal error: %s has no field %s\n", b->name, field);
+    abort();
+}
+
+void plm_option_range_from(plm_option *o, const plm_param_block *b, const char *field)
+{
+    const plm_param *p = table_field(b, field);
+    o->lo = p->min;
+    o->hi = p->max;
+}
+
+int plm_option_check_open(const plm_option *o, const plm_param_block *b, const char *field)
+{
+    const plm_param *p = table_field(b, field);
+    double v = *(const double *)o->target;
+    if ((v == p->min && (p->open & PLM_PARAM_OPEN_MIN)) || (v == p->max && (p->open & PLM_PARAM_OPEN_MAX))) {
+        fprintf(stderr, "error: %s: %.10g is out of range %s%.10g, %.10g%s\n", o->name, v,
+                p->open & PLM_PARAM_OPEN_MIN ? "(" : "[", p->min, p->max, p->open & PLM_PARAM_OPEN_MAX ? ")" : "]");
+        return 0;
+    }
+    return 1;
+}
+
 void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts)
 {
     fprintf(out, "usage: %s\n\n", help->usage);

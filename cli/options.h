@@ -6,6 +6,8 @@
 
 #include <stdio.h>
 
+#include "common/params.h"
+
 typedef enum plm_opt_kind {
     PLM_OPT_FLAG,    /* int: set to 1 when present */
     PLM_OPT_INT,     /* int in [lo, hi] */
@@ -46,6 +48,15 @@ typedef struct plm_command_help {
  * stderr naming the option and its allowed range). */
 int plm_parse_options(const plm_command_help *help, int argc, char **argv, int first, plm_option *opts,
                       int n_opts, const char **positional, int max_positional, int *n_positional);
+
+/* Takes o's range from the field of a parameter table (common/params.h), so
+ * an option accepts what the scene and species files accept. Aborts if the
+ * table has no such field (a programming error). */
+void plm_option_range_from(plm_option *o, const plm_param_block *b, const char *field);
+/* After parsing: a PLM_OPT_DOUBLE's value on a bound the table leaves open
+ * is refused as the parser refuses the others, naming the option and the
+ * range ("(0, 20]"). Returns 0 (message on stderr) if so, else 1. */
+int plm_option_check_open(const plm_option *o, const plm_param_block *b, const char *field);
 
 void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts);
 

@@ -261,6 +261,13 @@ int probe_masking(int argc, char **argv)
         [OPT_WIDTH] = {"--width", PLM_OPT_INT, &a.width, 0, 8, 4096, NULL, "PIXELS",
                        "width of each picture panel; height is half (default 180)", 0},
     };
+    /* The geometry's ranges are the masking table's (render/masking.h), as in scene files. */
+    static const struct { int option; const char *field; } from_table[] = {
+        {OPT_BARB_E, "barb_eccentricity"},   {OPT_BARBULE_E, "barbule_eccentricity"},
+        {OPT_LENGTH, "barbule_length"},      {OPT_SEPARATION, "barbule_separation"},
+        {OPT_ROTATION, "barbule_rotation"},  {OPT_INCLINATION, "barbule_inclination"}};
+    for (size_t i = 0; i < sizeof from_table / sizeof from_table[0]; ++i)
+        plm_option_range_from(&opts[from_table[i].option], &plm_masking_param_block, from_table[i].field);
     plm_command_help help = {
         "plumage probe masking [options] < directions",
         "Barb and barbule masking (paper Sec. 6.1) for view directions read from stdin, one per line.\n"
@@ -277,6 +284,9 @@ int probe_masking(int argc, char **argv)
     int rc = plm_parse_options(&help, argc, argv, 1, opts, OPT_COUNT, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
+    for (size_t i = 0; i < sizeof from_table / sizeof from_table[0]; ++i)
+        if (!plm_option_check_open(&opts[from_table[i].option], &plm_masking_param_block, from_table[i].field))
+            return 2;
     for (int i = 0; i < OPT_COUNT; ++i)
         if (opts[i].seen && !option_allowed(i, &a)) {
             fprintf(stderr, "error: plumage probe masking: %s does not apply here (--level %s%s%s)\n", opts[i].name,

@@ -78,7 +78,34 @@ bad "a 10^5 x 10^5 texture" '{"materials": {"m": {"mask": "huge.png"}}}' \
     "absurd.json: materials.m.mask: .*huge.png: 100000x100000 pixels with 3 channels is over the image limit"
 bad "a 10^5 x 10^5 environment map" '{"lights": [{"type": "environment", "file": "huge.png"}]}' \
     "absurd.json: lights\[0\].file: .*huge.png: 100000x100000 pixels with 3 channels is over the image limit"
+PARROT="$PLUMAGE_SOURCE_DIR/presets/species/covert_parrot.json"
+bad "10^8 feathers in a pelt" \
+    "{\"objects\": [{\"layout\": {\"type\": \"pelt\", \"species\": [\"$PARROT\"], \"count\": 100000000}}]}" \
+    "absurd.json: objects\[0\].layout.count: 100000000 is out of range \[0, 1000000\]"
+bad "10^8 feathers from a pelt's density" \
+    "{\"objects\": [{\"layout\": {\"type\": \"pelt\", \"species\": [\"$PARROT\"], \"surface\": {\"shape\": \"plane\", \"size\": [1000, 1000]}, \"density\": 100}}]}" \
+    "absurd.json: objects\[0\].layout: pelt: 100000000 feathers is out of range \[1, 10\^7\]"
+bad "10^8 feathers in a ball" \
+    "{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"$PARROT\"], \"count\": 100000000}}]}" \
+    "absurd.json: objects\[0\].layout.count: 100000000 is out of range \[0, 1000000\]"
 [ ! -e absurd.png ] && pass "no output from absurd requests" || fail "no output from absurd requests"
+
+# One parameter, one range, wherever it enters: the scene file and the probes' options read the same tables.
+same_range() { # same_range NAME SCENE_JSON CLI_ARGS...: both refuse with the same "[lo, hi]"
+    local n=$1; printf '%s' "$2" > range.json; shift 2
+    "$PLUMAGE" render range.json --quiet -o range.png 2>scene_err.txt
+    echo "1 1 1" | "$PLUMAGE" "$@" >/dev/null 2>cli_err.txt
+    local a b
+    a=$(grep -o '\[[^]]*\]' scene_err.txt | tail -1); b=$(grep -o '\[[^]]*\]' cli_err.txt | tail -1)
+    if [ -n "$a" ] && [ "$a" = "$b" ]; then pass "$n: $a in both"; else fail "$n: '$a' vs '$b'"; fi
+}
+same_range "fiber eccentricity" '{"materials": {"f": {"type": "feather", "texture": "t.png", "barb": {"eccentricity": 200}}}}' \
+    probe fiber --eccentricity 200
+same_range "fiber beta_n" '{"materials": {"f": {"type": "feather", "texture": "t.png", "barbule": {"beta_n": 0.1}}}}' \
+    probe bcsdf --beta-n 0.1
+same_range "barbule inclination" \
+    '{"materials": {"f": {"type": "feather", "texture": "t.png", "masking": {"barbule_inclination": 95}}}}' \
+    probe masking --barbule-inclination 95
 
 # Memory running out (an address space limit; the sanitizers need all of theirs, so not there):
 # a clear error, no abort, whether C (malloc) or C++ (OpenSubdiv's vectors) ran out.

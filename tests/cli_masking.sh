@@ -32,11 +32,11 @@ expect_stderr "negative barbule eccentricity" "barbule-eccentricity" M --barbule
 expect_stderr "zero barbule length" "barbule-length" M --barbule-length 0
 expect_stderr "negative separation" "barbule-separation" M --barbule-separation -0.5
 expect_stderr "inclination out of range" "barbule-inclination.*90" M --barbule-inclination 95
-expect_stderr "inclination range is open" "barbule_inclination.*\(-90, 90\)" M --barbule-inclination 90
-expect_stderr "inclination range is open below" "barbule_inclination.*\(-90, 90\)" M --barbule-inclination -90
+expect_stderr "inclination range is open" "barbule.inclination.*\(-90, 90\)" M --barbule-inclination 90
+expect_stderr "inclination range is open below" "barbule.inclination.*\(-90, 90\)" M --barbule-inclination -90
 expect_ok "falling barbules" with_stdin "0.3 0.8 0.1\n" M --barbule-inclination -60
 expect_stderr "rotation out of range" "barbule-rotation.*90" M --barbule-rotation 91
-expect_stderr "rotation range is open" "barbule_rotation.*\(0, 90\)" M --barbule-rotation 0
+expect_stderr "rotation range is open" "barbule.rotation.*\(0, 90\)" M --barbule-rotation 0
 expect_stderr "NaN option" "barbule-length" M --barbule-length nan
 expect_stderr "unknown option" "unknown option" M --frobnicate 1
 expect_stderr "unknown level" "level" M --level fiber
