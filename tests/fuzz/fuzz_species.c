@@ -11,7 +11,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     plm_scene_init(&scene);
     plm_feather_cache cache = {0};
     /* Level 1 and a 32x32 texture keep an iteration in milliseconds. */
-    plm_feather_request request = {path, 1, 32, 0};
+    plm_feather_request request = {.species = path, .level = 1, .texture_size = 32};
     plm_feather_parts parts;
     plm_error err = {{0}};
     plm_result rc = plm_feather_cache_get(&cache, &scene, "f", &request, &parts, &err);
