@@ -275,6 +275,10 @@ plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, c
         rc = read_fiber(r, obj, path, "barbule", &m->feather->barbule);
     if (rc == PLM_OK)
         rc = read_masking(r, obj, path, &m->feather->masking);
+    if (rc != PLM_OK) { /* a failed read leaves nothing allocated (a species' optics leaked: fuzz_species) */
+        free(m->feather);
+        m->feather = NULL;
+    }
     return rc;
 }
 
