@@ -28,8 +28,8 @@ int cmd_params(int argc, char **argv)
     plm_command_help help = {
         "plumage params [BLOCK...] [--markdown]",
         "Lists the fields of the scene format's parameter blocks: type, default, allowed range, unit and meaning.\n"
-        "BLOCK is one of camera, film, feather, fiber, masking, pelt, ball, wing, variation (default: all). These tables are\n"
-        "the ones scene files are checked against."};
+        "BLOCK is one of camera, film, feather, fiber, masking, pelt, ball, wing, variation (default: all).\n"
+        "These tables are the ones scene files are checked against."};
     const char *names[16];
     int n_names = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, 1, names, 16, &n_names);
