@@ -9,11 +9,13 @@
 #include "assert_double.h"
 #include "test_files.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/json.h"
 #include "common/rng.h"
 #include "generate/geometry.h"
 #include "generate/subdiv.h"
@@ -100,6 +102,58 @@ static void presets_load_and_leave_optics_alone(void **state)
     assert_int_equal(plm_species_parse(root, "t.json", &sp, &err), PLM_ERR_INVALID);
     assert_non_null(strstr(err.message, "optics"));
     cJSON_Delete(root);
+}
+
+/* Every preset in presets/species loads, is named after its file, says where
+ * its values come from, and reads as a feather: a short bare calamus (at most
+ * 15% of the length) and a vane (down strands included) starting right there. */
+static void every_preset_loads_with_a_source(void **state)
+{
+    (void)state;
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s/presets/species", PLUMAGE_SOURCE_DIR);
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int count = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        size_t n = strlen(e->d_name);
+        if (n < 6 || strcmp(e->d_name + n - 5, ".json"))
+            continue;
+        char path[2048], stem[256];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        snprintf(stem, sizeof stem, "%.*s", (int)(n - 5), e->d_name);
+        plm_species sp;
+        plm_error err = {{0}};
+        if (plm_species_load(path, &sp, &err) != PLM_OK)
+            fail_msg("%s", err.message);
+        assert_string_equal(sp.name, stem);
+        cJSON *root = NULL;
+        assert_int_equal(plm_json_load(path, &root, NULL), PLM_OK);
+        const cJSON *source = cJSON_GetObjectItemCaseSensitive(root, "source");
+        const cJSON *description = cJSON_GetObjectItemCaseSensitive(root, "description");
+        assert_true(cJSON_IsString(source) && strlen(source->valuestring) > 40);
+        assert_true(cJSON_IsString(description) && strlen(description->valuestring) > 20);
+        assert_true(cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, "optics")));
+        cJSON_Delete(root);
+        const plm_shape *sh = &sp.shape;
+        assert_true(sh->calamus_length <= 0.15 * sh->length);
+        plm_outline o;
+        assert_int_equal(plm_outline_init(&o, sh, path, NULL), PLM_OK);
+        double first = INFINITY;
+        for (int j = 0; j <= 400 && !isfinite(first); ++j) {
+            double y = sh->length * j / 400.0;
+            for (int i = -100; i <= 100; ++i)
+                if (plm_outline_sample(&o, o.half_extent * i / 100.0, y).region == PLM_FLAT_VANE) {
+                    first = y;
+                    break;
+                }
+        }
+        assert_true(first <= sh->calamus_length + 0.03 * sh->length);
+        plm_species_free(&sp);
+        count++;
+    }
+    closedir(d);
+    assert_true(count >= 12);
 }
 
 /* Seeded splits: the same seed gives the same splits, another seed others. */
@@ -480,6 +534,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(species_errors_name_the_field),
         cmocka_unit_test(presets_load_and_leave_optics_alone),
+        cmocka_unit_test(every_preset_loads_with_a_source),
         cmocka_unit_test(splits_follow_the_seed),
         cmocka_unit_test(vanes_are_clean_open_disks),
         cmocka_unit_test(rachis_is_a_closed_outward_tube),

@@ -108,7 +108,7 @@ static int flat_under(const plm_layout_instance *in, vec3 q, double *x, double *
     return 1;
 }
 
-/* 1 if the instance's pennaceous vane (its outline's vane region) lies over
+/* 1 if the instance's vane (its outline's vane region, down strands included) lies over
  * q (x, y) above the height q.z: the flat point found through the projection
  * of the flat feather, its height on the bent and cupped vane. */
 static int vane_over(const plm_layout_instance *in, const plm_outline *o, vec3 q)
@@ -162,7 +162,7 @@ static void pelt_counts_roots_and_surface(void **state)
     plm_species_free(&sp);
 }
 
-/* Coverage of the inner part of the plane by pennaceous vanes, and shingling:
+/* Coverage of the inner part of the plane by vanes (down strands included), and shingling:
  * the part of each feather's rachis lying under other feathers' vanes. */
 static void pelt_covers_and_shingles(void **state)
 {
@@ -182,7 +182,7 @@ static void pelt_covers_and_shingles(void **state)
             total++;
         }
     double coverage = (double)covered / total;
-    printf("pelt coverage by pennaceous vanes: %.3f\n", coverage);
+    printf("pelt coverage by vanes (down strands included): %.3f\n", coverage);
     assert_true(coverage >= 0.97);
     /* Shingling: along each feather's rachis (inner feathers), how often a
      * point lies under another feather's vane. The default overlap is 2/3:
@@ -446,8 +446,15 @@ static int is_flight(int row) { return row <= PLM_WING_TERTIAL; }
 static void wing_rows_overlap_in_order(void **state)
 {
     (void)state;
-    plm_species remex = load_preset("remex_pigeon"), covert = load_preset("covert_parrot");
-    const plm_species *rows[PLM_WING_ROWS] = {&remex, &remex, &remex, &covert, &covert, &covert, &covert};
+    static const char *const names[PLM_WING_ROWS] = {"wing_primary",        "wing_secondary",
+                                                     "wing_tertial",        "wing_covert_greater",
+                                                     "wing_covert_median", "wing_covert_lesser", "wing_alula"};
+    plm_species sp[PLM_WING_ROWS];
+    const plm_species *rows[PLM_WING_ROWS];
+    for (int r = 0; r < PLM_WING_ROWS; ++r) {
+        sp[r] = load_preset(names[r]);
+        rows[r] = &sp[r];
+    }
     plm_layout l = make_wing(rows, 0.0, 1);
     plm_feather *f = generate_prototypes(&l, rows);
     stack_grid g = {.cell = 0.3 / 100};
@@ -477,9 +484,9 @@ static void wing_rows_overlap_in_order(void **state)
                 right[kind] += s->z[a] > s->z[b];
             }
     }
-    static const char *const names[3] = {"coverts over flight feathers", "flight feathers", "coverts"};
+    static const char *const kinds[3] = {"coverts over flight feathers", "flight feathers", "coverts"};
     for (int k = 0; k < 3; ++k) {
-        printf("%s: %ld overlapping cell pairs, %.4f in order\n", names[k], pairs[k], (double)right[k] / pairs[k]);
+        printf("%s: %ld overlapping cell pairs, %.4f in order\n", kinds[k], pairs[k], (double)right[k] / pairs[k]);
         assert_true(pairs[k] > 1000);
     }
     assert_true((double)right[0] / pairs[0] > 0.99);
@@ -488,8 +495,8 @@ static void wing_rows_overlap_in_order(void **state)
     free(g.cells);
     free_prototypes(f, l.prototype_count);
     plm_layout_free(&l);
-    plm_species_free(&remex);
-    plm_species_free(&covert);
+    for (int r = 0; r < PLM_WING_ROWS; ++r)
+        plm_species_free(&sp[r]);
 }
 
 /* Rows, counts, the size ramps and folding. */

@@ -233,8 +233,8 @@ static double y_on_barb(const plm_outline *o, double a, double psi)
 
 /* A split is a gap between barbs: background along the split's barb beyond
  * 1 - depth of the width, vane beside it and inside the depth; barbs leaving
- * the rachis in the plumulaceous base are background. */
-static void splits_and_the_fluffy_base_are_background(void **state)
+ * the rachis in the plumulaceous base are loose strands. */
+static void splits_and_the_fluffy_base(void **state)
 {
     (void)state;
     cJSON *root = cJSON_Parse("{\"shape\": {\"length\": 100, \"calamus_length\": 10, \"plumulaceous\": 0.2,"
@@ -255,10 +255,21 @@ static void splits_and_the_fluffy_base_are_background(void **state)
     /* Inside the depth, and on the other side, the split's barb is vane. */
     assert_int_equal(region_at(&f, 0.3 * w, y_on_barb(o, 0.3 * w, psi)), PLM_FLAT_VANE);
     assert_int_equal(region_at(&f, -a, y_on_barb(o, -a, psi)), PLM_FLAT_VANE);
-    /* Fluffy base: barbs from the first 20% of the vane. */
+    /* Fluffy base: barbs from the first 20% of the vane are loose strands,
+     * drawn over 30% of their spacing at the base to 80% at the pennaceous
+     * vane, and out to half the width at the base. */
     for (int side = 0; side < 2; ++side) {
-        double x = (side ? 1.0 : -1.0) * 0.5 * plm_outline_width(o, side, 0.3);
-        assert_int_equal(region_at(&f, x, y_on_barb(o, x, o->vane_base + 0.17 * o->vane_length)),
+        double sign = side ? 1.0 : -1.0, x = sign * 0.3 * plm_outline_width(o, side, 0.3);
+        int vane[2] = {0, 0}, n = 400;
+        for (int k = 0; k < n; ++k) {
+            double psi_k = o->vane_base + 0.2 * o->vane_length * (k + 0.5) / n;
+            vane[k >= n / 2] += region_at(&f, x, y_on_barb(o, x, psi_k)) == PLM_FLAT_VANE;
+        }
+        /* Mean share over each half: 30% + 50% x (1/4 or 3/4), within texel rounding. */
+        assert_double_near(vane[0] / (n / 2.0), 0.425, 0.08);
+        assert_double_near(vane[1] / (n / 2.0), 0.675, 0.08);
+        double edge = sign * 0.9 * plm_outline_width(o, side, 0.02);
+        assert_int_equal(region_at(&f, edge, y_on_barb(o, edge, o->vane_base + 0.01 * o->vane_length)),
                          PLM_FLAT_BACKGROUND);
         assert_int_equal(region_at(&f, x, y_on_barb(o, x, o->vane_base + 0.23 * o->vane_length)), PLM_FLAT_VANE);
     }
@@ -376,7 +387,7 @@ int main(void)
         cmocka_unit_test(stored_directions_are_tangents_of_the_barbs),
         cmocka_unit_test(mask_widths_are_the_parameters),
         cmocka_unit_test(notched_tip_is_cut_at_the_rachis),
-        cmocka_unit_test(splits_and_the_fluffy_base_are_background),
+        cmocka_unit_test(splits_and_the_fluffy_base),
         cmocka_unit_test(rachis_region_has_the_rachis_width),
         cmocka_unit_test(the_vane_mesh_covers_every_vane_texel),
         cmocka_unit_test(files_round_trip_and_runs_repeat),
