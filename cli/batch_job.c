@@ -204,7 +204,8 @@ void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st)
         st->state = states[i];
         snprintf(st->runner, sizeof st->runner, "%s", string_field(doc, "runner"));
         if (i == 0) {
-            const cJSON *s = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "seconds"), "total");
+            const cJSON *sec = cJSON_GetObjectItemCaseSensitive(doc, "seconds");
+            const cJSON *s = cJSON_GetObjectItemCaseSensitive(sec, "total");
             st->seconds = cJSON_IsNumber(s) ? s->valuedouble : 0.0;
         } else if (i == 1) {
             snprintf(st->message, sizeof st->message, "%s", string_field(doc, "error"));
