@@ -11,24 +11,15 @@ set -u
 plumage=$(realpath "$1")
 jobs=${2:-16}
 side=$(awk -v n="$jobs" 'BEGIN { print int(sqrt(n) + 0.5) }')
-cd "$(dirname "$0")/.." && source scripts/slurm-local.sh
+cd "$(dirname "$0")/.." && repo=$PWD && source scripts/slurm-local.sh
 work=$(mktemp -d /tmp/plumage-bench-batch.XXXXXX)
 trap 'slurm_local_stop "$work/slurm"; rm -rf "$work"' EXIT
 cd "$work"
-cat > small.json <<'JSON'
-{
-  "camera": {"position": [0, 1, 3], "look_at": [0, 0, 0], "fov": 40},
-  "film": {"width": 64, "height": 48, "spp": 16},
-  "lights": [{"type": "environment", "radiance": [0.5, 0.5, 0.6]}, {"type": "distant", "direction": [1, 2, 1]}],
-  "meshes": {"floor": {"shape": "quad", "size": [4, 4]}, "ball": {"shape": "sphere", "radius": 0.5}},
-  "materials": {"grey": {"reflectance": [0.5, 0.5, 0.5]}},
-  "objects": [{"mesh": "floor", "material": "grey", "transform": {"rotate": [-90, 0, 0]}},
-              {"mesh": "ball", "material": "grey", "transform": {"translate": [0, 0.5, 0]}}]
-}
-JSON
+cp "$repo/tests/batch/tiny.json" small.json # a sphere on a floor
 fovs=$(seq -s, 20 5 $((20 + 5 * (side - 1))))
 suns=$(seq -s, 1 1 "$side")
-echo "{\"scene\": \"small.json\", \"sweep\": {\"camera.fov\": [$fovs], \"lights.1.direction.0\": [$suns]}}" > sweep.json
+echo "{\"scene\": \"small.json\", \"resolution\": [64, 48], \"spp\": 16,
+       \"sweep\": {\"camera.fov\": [$fovs], \"lights.1.direction.0\": [$suns]}}" > sweep.json
 [ "$(wc -l < <("$plumage" batch sweep.json --dry-run))" -eq "$jobs" ] || { echo "error: $jobs is not a square" >&2; exit 2; }
 cores=$(nproc)
 calc() { awk "BEGIN { printf \"%.3f\", $1 }"; }

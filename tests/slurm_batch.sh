@@ -26,17 +26,7 @@ wait_queue() {
 }
 array_id() { sed -nE 's/^submitted job array ([0-9]+) .*/\1/p' out.txt; }
 
-cat > tiny.json <<'JSON'
-{
-  "camera": {"position": [0, 1, 3], "look_at": [0, 0, 0], "fov": 40},
-  "film": {"width": 24, "height": 16, "spp": 2},
-  "lights": [{"type": "environment", "radiance": [0.5, 0.5, 0.6]}, {"type": "distant", "direction": [1, 2, 1]}],
-  "meshes": {"floor": {"shape": "quad", "size": [4, 4]}, "ball": {"shape": "sphere", "radius": 0.5}},
-  "materials": {"grey": {"reflectance": [0.5, 0.5, 0.5]}},
-  "objects": [{"mesh": "floor", "material": "grey", "transform": {"rotate": [-90, 0, 0]}},
-              {"mesh": "ball", "material": "grey", "transform": {"translate": [0, 0.5, 0]}}]
-}
-JSON
+cp "$PLUMAGE_SOURCE_DIR/tests/batch/tiny.json" tiny.json # a sphere on a floor, 24x16 at 2 spp
 
 # --- a sweep as an array, then the gather step ---
 cat > sweep.json <<'JSON'
