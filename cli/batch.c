@@ -293,7 +293,8 @@ int cmd_batch(int argc, char **argv)
         {"--job", PLM_OPT_INT, &job, 0, 0, PLM_BATCH_MAX_JOBS - 1, NULL, "N",
          "run job N alone in this process (0-based; skipped if already done)", 0},
         {"--status", PLM_OPT_FLAG, &status, 0, 0, 0, NULL, NULL,
-         "report each job as done, failed, killed or missing, from the output folder alone (exit 1 unless all done)",
+         "report each job as done, running, failed, killed or missing, from the output folder "
+         "alone (exit 1 unless all are done)",
          0},
         {"--gather", PLM_OPT_FLAG, &gather, 0, 0, 0, NULL, NULL,
          "write report.json and a sweep's contact sheet from the jobs' folders (what a Slurm batch ends with)", 0},
