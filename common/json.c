@@ -30,6 +30,7 @@ plm_result plm_json_parse(const char *text, size_t length, const char *name, cJS
 
 plm_result plm_json_load(const char *path, cJSON **out, plm_error *err)
 {
+    *out = NULL; /* callers may free *out whatever the result */
     char *text;
     plm_result rc = plm_read_text_file(path, &text, err);
     if (rc != PLM_OK)

@@ -18,7 +18,8 @@ typedef struct plm_json_reader {
     plm_error *err;   /* may be NULL */
 } plm_json_reader;
 
-/* Parses a file; on a syntax error the message gives the line and column. */
+/* Parses a file; on a syntax error the message gives the line and column.
+ * *out is NULL after any failure, so callers may always cJSON_Delete it. */
 plm_result plm_json_load(const char *path, cJSON **out, plm_error *err);
 /* The same for text in memory (not necessarily NUL-terminated); name is shown in messages. */
 plm_result plm_json_parse(const char *text, size_t length, const char *name, cJSON **out, plm_error *err);
