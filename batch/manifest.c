@@ -85,9 +85,10 @@ static plm_result read_job_fields(const plm_json_reader *r, const cJSON *obj, co
     const cJSON *res = cJSON_GetObjectItemCaseSensitive(obj, "resolution");
     if (rc == PLM_OK && res) {
         const cJSON *w = cJSON_GetArrayItem(res, 0), *h = cJSON_GetArrayItem(res, 1);
+        /* The range first: converting a double beyond int's range to int is undefined (found by fuzz_batch). */
         if (!cJSON_IsArray(res) || cJSON_GetArraySize(res) != 2 || !cJSON_IsNumber(w) || !cJSON_IsNumber(h) ||
-            w->valuedouble != (int)w->valuedouble || h->valuedouble != (int)h->valuedouble ||
-            w->valuedouble < 1 || w->valuedouble > 16384 || h->valuedouble < 1 || h->valuedouble > 16384)
+            !(w->valuedouble >= 1 && w->valuedouble <= 16384 && h->valuedouble >= 1 && h->valuedouble <= 16384) ||
+            w->valuedouble != (int)w->valuedouble || h->valuedouble != (int)h->valuedouble)
             return plm_json_fail(r, path, "resolution", "expected [width, height], whole numbers in [1, 16384]");
         f->width = (int)w->valuedouble;
         f->height = (int)h->valuedouble;
