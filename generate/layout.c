@@ -69,7 +69,9 @@ void plm_species_variant(const plm_species *base, int variant, uint64_t seed, pl
  * mm) and its size. The meshes are the level-1 limit surfaces: their
  * vertices lie on the same surfaces as any finer level's. */
 typedef struct extent {
-    plm_mesh mesh[2]; /* vane, rachis */
+    plm_mesh mesh[2];  /* vane, rachis */
+    double (*hull)[2]; /* convex hull of the vertices' (y, z): all a tilt about x can bring lowest */
+    int hull_count;
     double length, rachis_radius;
 } extent;
 
@@ -78,8 +80,59 @@ static void extents_free(extent *e, int n)
     for (int i = 0; i < n && e; ++i) {
         plm_mesh_free(&e[i].mesh[0]);
         plm_mesh_free(&e[i].mesh[1]);
+        free(e[i].hull);
     }
     free(e);
+}
+
+static int compare_point(const void *a, const void *b)
+{
+    const double *p = a, *q = b;
+    return p[0] < q[0] ? -1 : p[0] > q[0] ? 1 : (p[1] > q[1]) - (p[1] < q[1]);
+}
+
+static double turn(const double *o, const double *a, const double *b)
+{
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+/* Convex hull of n points (Andrew's monotone chain) into h, which has room
+ * for 2n; returns its size. Sorts p. */
+static int convex_hull(double (*p)[2], int n, double (*h)[2])
+{
+    qsort(p, (size_t)n, sizeof *p, compare_point);
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        while (k >= 2 && turn(h[k - 2], h[k - 1], p[i]) <= 0.0)
+            --k;
+        memcpy(h[k++], p[i], sizeof *p);
+    }
+    for (int i = n - 2, lower = k + 1; i >= 0; --i) {
+        while (k >= lower && turn(h[k - 2], h[k - 1], p[i]) <= 0.0)
+            --k;
+        memcpy(h[k++], p[i], sizeof *p);
+    }
+    return k > 1 ? k - 1 : k;
+}
+
+static plm_result hull_of(extent *e, plm_error *err)
+{
+    int n = e->mesh[0].vertex_count + e->mesh[1].vertex_count;
+    double(*p)[2] = malloc(sizeof *p * (size_t)n);
+    e->hull = malloc(sizeof *e->hull * 2 * (size_t)n);
+    if (!p || !e->hull) {
+        free(p);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a layout's prototype extents");
+    }
+    int k = 0;
+    for (int m = 0; m < 2; ++m)
+        for (int i = 0; i < e->mesh[m].vertex_count; ++i, ++k) {
+            p[k][0] = e->mesh[m].positions[3 * i + 1];
+            p[k][1] = e->mesh[m].positions[3 * i + 2];
+        }
+    e->hull_count = convex_hull(p, n, e->hull);
+    free(p);
+    return PLM_OK;
 }
 
 static plm_result extent_of(const plm_layout_prototype *pr, extent *e, plm_error *err)
@@ -90,6 +143,8 @@ static plm_result extent_of(const plm_layout_prototype *pr, extent *e, plm_error
         rc = plm_vane_mesh(&o, 1, &e->mesh[0], err);
     if (rc == PLM_OK)
         rc = plm_rachis_mesh(&o, 1, &e->mesh[1], err);
+    if (rc == PLM_OK)
+        rc = hull_of(e, err);
     e->length = pr->shape.length;
     e->rachis_radius = 0.5 * pr->shape.rachis_base_width;
     return rc;
@@ -394,9 +449,18 @@ static void place_on_surface(const surface *sf, const surface_point *root, const
         vec3 z = v3_sub(v3_scale(n, cos(alpha)), v3_scale(t, sin(alpha)));
         set_matrix(in, v3_cross(tt, z), tt, z, origin, scale);
         double lowest = INFINITY;
-        for (int k = 0; k < 2; ++k)
-            for (int i = 0; i < e->mesh[k].vertex_count; ++i)
-                lowest = fmin(lowest, surface_height(sf, root, apply(in, e->mesh[k].positions + 3 * i)));
+        if (sf->s->kind == PLM_SURFACE_SPHERE) {
+            for (int k = 0; k < 2; ++k)
+                for (int i = 0; i < e->mesh[k].vertex_count; ++i)
+                    lowest = fmin(lowest, surface_height(sf, root, apply(in, e->mesh[k].positions + 3 * i)));
+        } else {
+            /* Above a tangent plane a feather point (x, y, z) stands at
+             * scale (r + y sin(alpha) + z cos(alpha)): x plays no part, and
+             * the lowest point is a vertex of the (y, z) hull. */
+            for (int i = 0; i < e->hull_count; ++i)
+                lowest = fmin(lowest, scale * (e->rachis_radius + e->hull[i][0] * sin(alpha) +
+                                               e->hull[i][1] * cos(alpha)));
+        }
         if (lowest >= margin || alpha >= max_elevation)
             break;
         alpha = fmin(alpha + step, max_elevation);
