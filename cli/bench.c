@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <time.h>
 
 #include "cli/commands.h"
@@ -36,13 +35,6 @@ double plm_bench_ns_per_call(void (*body)(void *ctx, long calls), void *ctx, lon
     }
     qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
     return runs % 2 ? times[runs / 2] : 0.5 * (times[runs / 2 - 1] + times[runs / 2]);
-}
-
-double plm_bench_peak_mib(void)
-{
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    return (double)ru.ru_maxrss / 1024.0; /* Linux reports KiB */
 }
 
 static const plm_subcommand benches[] = {

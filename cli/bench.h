@@ -7,9 +7,6 @@
  * call (single thread, wall clock, after one warm-up run). */
 double plm_bench_ns_per_call(void (*body)(void *ctx, long calls), void *ctx, long calls, int runs);
 
-/* Peak resident memory of this process so far, in MiB. */
-double plm_bench_peak_mib(void);
-
 /* Seconds since an arbitrary start (monotonic). */
 double plm_bench_seconds(void);
 

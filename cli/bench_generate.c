@@ -7,6 +7,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "common/memory.h"
 #include "texture/feather.h"
 
 /* CPU seconds of this thread: on a shared machine, less disturbed by other
@@ -52,6 +53,7 @@ static int time_generation(const plm_species *sp, const plm_feather_options *fo,
 
 int bench_generate(int argc, char **argv)
 {
+    double start_mib = plm_memory_resident_mib();
     const char *species = "presets/species/remex_pigeon.json";
     int runs = 7, size = 1024, level = PLM_FEATHER_DEFAULT_LEVEL;
     plm_option opts[] = {
@@ -65,7 +67,8 @@ int bench_generate(int argc, char **argv)
         "plumage bench generate [options]",
         "Times plm_feather_generate in memory (no files): meshes at the default subdivision level plus the\n"
         "feather and pigment textures, single thread; also without the pigment image, meshes alone and\n"
-        "textures alone. Prints median wall and thread-CPU milliseconds and the process's peak resident memory."};
+        "textures alone. Prints median wall and thread-CPU milliseconds, the process's peak resident memory\n"
+        "and what it held at the start."};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
@@ -92,6 +95,6 @@ int bench_generate(int argc, char **argv)
            level, size, size, runs);
     for (int k = 0; k < 4; ++k)
         printf("%s_ms %.2f cpu_ms %.2f\n", names[k], ms[k][0], ms[k][1]);
-    printf("peak_mib %.1f\n", plm_bench_peak_mib());
+    printf("peak_mib %.1f start_mib %.1f\n", plm_memory_peak_mib(), start_mib);
     return 0;
 }

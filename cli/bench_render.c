@@ -13,6 +13,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "common/memory.h"
 #include "render/feather_bsdf.h"
 #include "render/render.h"
 #include "render/scene_build.h"
@@ -175,7 +176,7 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
     double traced_rays = traced.ray_count / traced.seconds * per_thread;
     printf("%-30s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f\n", label, width, height, o->spp,
            shaded.threads, samples_rate, shaded_rays, traced_rays, traced_rays / shaded_rays, build,
-           plm_bench_peak_mib());
+           plm_memory_peak_mib());
     if (shaded.nonfinite)
         printf("  (%lld non-finite samples dropped)\n", shaded.nonfinite);
     plm_film_free(&shaded);

@@ -14,6 +14,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "common/memory.h"
 #include "render/render.h"
 #include "scene/scene_file.h"
 
@@ -69,7 +70,7 @@ static void measure(const char *file, const char *text, const char *tag, const b
         *f = (figures){1, film.width, film.height, o->spp, film.threads, scene.instance_count, t1 - t0, t2 - t1,
                        film.seconds, film.sample_count / film.seconds / film.threads,
                        1e6 * film.seconds * film.threads / (double)film.sample_count,
-                       1e6 * cpu / (double)film.sample_count, plm_bench_peak_mib()};
+                       1e6 * cpu / (double)film.sample_count, plm_memory_peak_mib()};
         if (o->images) { /* to look at what was measured */
             char path[4096];
             snprintf(path, sizeof path, "%s_%s.png", o->images, tag);

@@ -1,4 +1,5 @@
 /* plumage render: a scene file in, a linear EXR and a tone-mapped PNG out. */
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,8 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_job.h"
+#include "common/image_io.h"
+#include "common/memory.h"
 #include "scene/scene_file.h"
 
 static volatile sig_atomic_t interrupted;
@@ -49,10 +52,30 @@ static int job_failed(plm_render_job *job, const plm_error *err)
     return 1;
 }
 
+/* The job's peak and its parts. The scene's own peak is the larger of the
+ * peak before the image library was loaded and the peak after it less the
+ * library; a library loaded before the job is part of what the job found. */
+static void job_memory(plm_render_job *job, int library_loaded_before)
+{
+    double added, peak_before;
+    plm_image_library_memory(&added, &peak_before);
+    if (library_loaded_before)
+        added = peak_before = 0.0;
+    job->peak_mib = plm_memory_peak_mib();
+    job->image_library_mib = added;
+    job->scene_mib = fmax(peak_before, job->peak_mib - added) - job->before_mib;
+}
+
 int plm_render_job_run(plm_render_job *job)
 {
     plm_error err = {{0}};
     plm_scene scene;
+    /* Memory: the peak of this job alone, told apart from what the process held before and from the
+     * image library, which is loaded when the first image is read or written. */
+    plm_memory_reset_peak();
+    job->before_mib = plm_memory_resident_mib();
+    double library_before, unused;
+    plm_image_library_memory(&library_before, &unused);
     double t0 = plm_bench_seconds();
     if (plm_scene_load_with(job->scene, job->sets, job->n_sets, &scene, &err) != PLM_OK)
         return job_failed(job, &err);
@@ -101,6 +124,9 @@ int plm_render_job_run(plm_render_job *job)
         fprintf(stderr, "warning: %lld non-finite samples were dropped (counted as black)\n", film.nonfinite);
     else
         fprintf(stderr, "non-finite samples: 0\n");
+    job_memory(job, library_before > 0.0);
+    fprintf(stderr, "memory: peak %.1f MiB: %.1f at the start, %.1f the image library, %.1f the scene and its "
+            "render\n", job->peak_mib, job->before_mib, job->image_library_mib, job->scene_mib);
     plm_film_free(&film);
     plm_scene_free(&scene);
     return status ? status : (job->interrupted ? 130 : 0);

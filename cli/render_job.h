@@ -31,6 +31,9 @@ typedef struct plm_render_job {
     double render_seconds; /* building the world and sampling */
     double write_seconds;
     char error[1024]; /* the message of a failure ("" on success) */
+    double peak_mib;  /* peak resident memory during the job (the process's if it cannot be reset per job) */
+    double before_mib, image_library_mib, scene_mib; /* held at the start, added by loading the image
+                                                        library, the scene and its render at their peak */
 } plm_render_job;
 
 /* Runs the job; messages go to stderr. Returns the exit status: 0, 1 on

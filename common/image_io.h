@@ -1,4 +1,5 @@
-/* Image files through OpenImageIO (adapter in image_io.cpp), plus the
+/* Image files through OpenImageIO (adapter in image_io.cpp, loaded on first
+ * use by image_module.c), plus the
  * conversions every stage needs. Pixels are row-major, top row first,
  * channels interleaved. Writes are atomic (temporary file, then rename). */
 #ifndef PLUMAGE_COMMON_IMAGE_IO_H
@@ -40,6 +41,12 @@ plm_result plm_image_write(const char *path, int width, int height, int channels
  * (EXR, PNG, HDR, TIFF, JPEG...); *pixels is malloc'd (caller frees). */
 plm_result plm_image_read(const char *path, int *width, int *height, int *channels, float **pixels,
                           plm_error *err);
+
+/* The reads and writes above load the image library (OpenImageIO, a module:
+ * see common/image_module.h) on first use. What that cost: the resident
+ * memory its loading added and the process's peak resident memory just
+ * before, in MiB; both 0 while it is not loaded. */
+void plm_image_library_memory(double *added_mib, double *peak_before_mib);
 
 /* Linear float RGB -> 8-bit sRGB PNG, after scaling by 2^exposure and a
  * clamp (the simplest tone map: the values are shown as they are). Non-finite

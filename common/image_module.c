@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "common/image_module.h"
+#include "common/memory.h"
 
 /* The module is opened once per process and stays open: the table and the
  * load error are process-wide by nature, so they live here, set once under
@@ -16,6 +17,7 @@
 static pthread_once_t module_once = PTHREAD_ONCE_INIT;
 static const plm_image_module *module_table;
 static char module_message[sizeof ((plm_error *)0)->message];
+static double module_added_mib, module_peak_before_mib; /* see plm_image_library_memory */
 
 /* The folder holding the running executable, without a trailing slash. */
 static int executable_dir(char *out, size_t size)
@@ -49,8 +51,9 @@ static void load_module(void)
     char paths[MAX_PATHS][PATH_SIZE];
     int count = 0;
     const char *override = getenv(PLM_IMAGE_MODULE_ENV);
+    int overridden = override && override[0];
     char dir[PATH_SIZE];
-    if (override && override[0]) {
+    if (overridden) {
         snprintf(paths[count++], PATH_SIZE, "%s", override);
     } else {
         if (executable_dir(dir, sizeof dir)) {
@@ -62,6 +65,8 @@ static void load_module(void)
         }
         snprintf(paths[count++], PATH_SIZE, "%s", PLUMAGE_MODULE_BUILD_PATH);
     }
+    double resident_before = plm_memory_resident_mib();
+    module_peak_before_mib = plm_memory_peak_mib();
     for (int i = 0; i < count; ++i) {
         if (access(paths[i], F_OK) != 0)
             continue;
@@ -78,11 +83,18 @@ static void load_module(void)
             return;
         }
         module_table = table;
+        module_added_mib = plm_memory_resident_mib() - resident_before;
         return;
     }
-    module_failed("image library module not found: looked for %s%s%s%s%s; reinstall plumage or set %s to its path",
-                  paths[0], count > 1 ? ", " : "", count > 1 ? paths[1] : "",
-                  count > 2 ? ", " : "", count > 2 ? paths[2] : "", PLM_IMAGE_MODULE_ENV);
+    char tried[MAX_PATHS * PATH_SIZE];
+    size_t used = 0;
+    for (int i = 0; i < count && used < sizeof tried; ++i) {
+        int n = snprintf(tried + used, sizeof tried - used, "%s%s", i ? ", " : "", paths[i]);
+        used += n > 0 ? (size_t)n : 0;
+    }
+    module_failed("image library module not found: looked for %s%s", tried,
+                  overridden ? " (from " PLM_IMAGE_MODULE_ENV ")"
+                             : "; reinstall plumage or set " PLM_IMAGE_MODULE_ENV " to the module's path");
 }
 
 /* The module's table, or NULL with the reason in err, prefixed by what the
@@ -115,4 +127,10 @@ plm_result plm_image_draw_text(plm_image *img, int x, int y, int size_px, const 
 {
     const plm_image_module *m = image_module("draw text", err);
     return m ? m->draw_text(img, x, y, size_px, text, color, err) : PLM_ERR_INTERNAL;
+}
+
+void plm_image_library_memory(double *added_mib, double *peak_before_mib)
+{
+    *added_mib = module_table ? module_added_mib : 0.0;
+    *peak_before_mib = module_table ? module_peak_before_mib : 0.0;
 }

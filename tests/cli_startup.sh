@@ -34,6 +34,31 @@ echo "not a library" > broken.so
 PLUMAGE_IMAGE_MODULE=$PWD/broken.so expect_stderr "a broken module names its path" \
     "broken.so cannot be loaded" "$PLUMAGE" probe masking --figure missing.png --width 16
 
+# plumage render tells its memory apart: start-up, the image library, the scene.
+cat > tiny.json <<'JSON'
+{
+  "camera": {"position": [0, 1, 3], "look_at": [0, 0, 0]},
+  "film": {"width": 8, "height": 6, "spp": 1, "png": "tiny.png"},
+  "lights": [{"type": "environment", "radiance": [0.5, 0.5, 0.6]}],
+  "meshes": {"ball": {"shape": "sphere", "radius": 0.5}},
+  "materials": {"grey": {"reflectance": [0.5, 0.5, 0.5]}},
+  "objects": [{"mesh": "ball", "material": "grey"}]
+}
+JSON
+expect_ok "render a tiny scene" "$PLUMAGE" render tiny.json --quiet
+memory=$(sed -nE 's/^memory: peak ([0-9.]+) MiB: ([0-9.]+) at the start, ([0-9.]+) the image library, (-?[0-9.]+) the scene and its render$/\1 \2 \3 \4/p' err.txt)
+if [ -n "$memory" ]; then
+    read -r peak before library scene <<< "$memory"
+    awk -v b="$before" -v l="$library" -v s="$scene" 'BEGIN { exit !(l > 0 && b < l && s >= 0) }' \
+        && pass "render memory: start-up $before MiB, less than the image library's $library MiB; scene $scene (peak $peak)" \
+        || fail "render memory: start-up $before MiB should be less than the image library's $library MiB; scene $scene"
+else
+    fail "render prints its memory: $(cat err.txt)"
+fi
+PLUMAGE_IMAGE_MODULE=$PWD/nowhere.so expect_stderr "render without the module names its path" \
+    "late.png: image library module not found: looked for .*nowhere.so" "$PLUMAGE" render tiny.json -o late.png
+[ -e late.png ] && fail "no image without the module" || pass "no image without the module"
+
 # The install layout: bin/plumage finds <libdir>/plumage/plumage_image_oiio.so.
 if [ -n "${PLUMAGE_BUILD_DIR:-}" ]; then
     expect_ok "install into a prefix" cmake --install "$PLUMAGE_BUILD_DIR" --prefix "$PWD/prefix"

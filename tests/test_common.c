@@ -1,4 +1,5 @@
 /* The shared base: random numbers, sampling helpers, JSON validation, safe files. */
+#define _DEFAULT_SOURCE /* MAP_ANONYMOUS */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -9,11 +10,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "common/fileio.h"
 #include "common/image_io.h"
 #include "common/json.h"
+#include "common/memory.h"
 #include "common/params.h"
 #include "common/rng.h"
 #include "render/sampling.h"
@@ -286,6 +289,28 @@ static void parameter_tables_read_check_and_print(void **state)
     assert_non_null(strstr(buf, "| `length` | number | 1 | 0.5 | 2 | mm | how long |"));
 }
 
+/* Touching 64 MiB (mapped directly, so no allocator keeps it afterwards)
+ * raises the resident and peak figures by about that; once it is unmapped
+ * and the peak reset, the peak is back near the resident memory. */
+static void memory_figures_follow_what_is_touched(void **state)
+{
+    (void)state;
+    const size_t size = 64u << 20;
+    double resident0 = plm_memory_resident_mib();
+    assert_true(resident0 > 0.0);
+    assert_true(plm_memory_peak_mib() >= resident0);
+    unsigned char *block = mmap(NULL, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    assert_true(block != MAP_FAILED);
+    memset(block, 1, size);
+    assert_true(plm_memory_resident_mib() >= resident0 + 60.0);
+    double peak = plm_memory_peak_mib();
+    assert_true(peak >= resident0 + 60.0);
+    munmap(block, size);
+    if (!plm_memory_reset_peak())
+        skip(); /* no /proc/self/clear_refs here */
+    assert_true(plm_memory_peak_mib() <= peak - 48.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -297,6 +322,7 @@ int main(void)
         cmocka_unit_test(image_round_trips_through_exr_and_png16),
         cmocka_unit_test(text_is_drawn_at_its_baseline),
         cmocka_unit_test(parameter_tables_read_check_and_print),
+        cmocka_unit_test(memory_figures_follow_what_is_touched),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
