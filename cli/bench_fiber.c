@@ -1,13 +1,16 @@
 /* plumage bench fiber: single-thread nanoseconds per fiber BCSDF query for
- * the paper's four Fig. 7 fibers. A shading query traces a lobe set
- * (plm_fiber_prepare) and then evaluates or samples it, so the headline
- * figures are prepare + eval and prepare + sample; the parts are timed too. */
+ * the paper's four Fig. 7 fibers, with each estimator (docs/fiber.md). A
+ * shading query prepares the BCSDF for wo (the stochastic one traces a lobe
+ * set) and then evaluates or samples it, so the headline figures are
+ * prepare + eval and prepare + sample; the parts are timed too. Also each
+ * table's build time on all cores (not from the cache) and its size. */
 #include <stdio.h>
+#include <string.h>
 
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "render/fiber.h"
+#include "render/fiber_table.h"
 
 /* Powers of two, cycled with a mask. Queries are many so branches cannot be
  * learnt; prepared sets few, because a renderer evaluates the set it has just
@@ -18,9 +21,10 @@ enum { N_QUERIES = 4096, N_SETS = 64 };
  * timing so the timed loops measure the BCSDF alone. */
 typedef struct fiber_bench {
     plm_fiber_params params;
+    const plm_fiber_table *table; /* NULL: the stochastic estimator */
     vec3 wo[N_QUERIES], wi[N_QUERIES];
     double u[N_QUERIES][3];
-    plm_fiber_lobe_set sets[N_SETS]; /* prepared, for timing eval and sample alone */
+    plm_fiber_bcsdf sets[N_SETS]; /* prepared, for timing eval and sample alone */
     plm_rng rng;
     volatile double sink; /* keeps the results alive */
 } fiber_bench;
@@ -30,9 +34,9 @@ static void bench_prepare_eval(void *ctx, long calls)
     fiber_bench *b = ctx;
     double acc = 0.0;
     for (long i = 0; i < calls; ++i) {
-        plm_fiber_lobe_set set;
-        plm_fiber_prepare(&b->params, b->wo[i & (N_QUERIES - 1)], -1.0, 1.0, &b->rng, &set);
-        acc += plm_fiber_eval(&b->params, &set, b->wi[i & (N_QUERIES - 1)]).g;
+        plm_fiber_bcsdf set;
+        plm_fiber_bcsdf_prepare(&b->params, b->table, b->wo[i & (N_QUERIES - 1)], -1.0, 1.0, &b->rng, &set);
+        acc += plm_fiber_bcsdf_eval(&set, b->wi[i & (N_QUERIES - 1)]).g;
     }
     b->sink = acc;
 }
@@ -43,10 +47,10 @@ static void bench_prepare_sample(void *ctx, long calls)
     double acc = 0.0;
     for (long i = 0; i < calls; ++i) {
         int q = (int)(i & (N_QUERIES - 1));
-        plm_fiber_lobe_set set;
+        plm_fiber_bcsdf set;
         plm_fiber_sample_rec rec;
-        plm_fiber_prepare(&b->params, b->wo[q], -1.0, 1.0, &b->rng, &set);
-        if (plm_fiber_sample(&b->params, &set, b->u[q][0], b->u[q][1], b->u[q][2], &rec))
+        plm_fiber_bcsdf_prepare(&b->params, b->table, b->wo[q], -1.0, 1.0, &b->rng, &set);
+        if (plm_fiber_bcsdf_sample(&set, b->u[q][0], b->u[q][1], b->u[q][2], &rec))
             acc += rec.pdf;
     }
     b->sink = acc;
@@ -57,8 +61,8 @@ static void bench_prepare(void *ctx, long calls)
     fiber_bench *b = ctx;
     double acc = 0.0;
     for (long i = 0; i < calls; ++i) {
-        plm_fiber_lobe_set set;
-        plm_fiber_prepare(&b->params, b->wo[i & (N_QUERIES - 1)], -1.0, 1.0, &b->rng, &set);
+        plm_fiber_bcsdf set;
+        plm_fiber_bcsdf_prepare(&b->params, b->table, b->wo[i & (N_QUERIES - 1)], -1.0, 1.0, &b->rng, &set);
         acc += set.total;
     }
     b->sink = acc;
@@ -69,7 +73,7 @@ static void bench_eval(void *ctx, long calls)
     fiber_bench *b = ctx;
     double acc = 0.0;
     for (long i = 0; i < calls; ++i)
-        acc += plm_fiber_eval(&b->params, &b->sets[i & (N_SETS - 1)], b->wi[i & (N_QUERIES - 1)]).g;
+        acc += plm_fiber_bcsdf_eval(&b->sets[i & (N_SETS - 1)], b->wi[i & (N_QUERIES - 1)]).g;
     b->sink = acc;
 }
 
@@ -80,7 +84,7 @@ static void bench_sample(void *ctx, long calls)
     for (long i = 0; i < calls; ++i) {
         int q = (int)(i & (N_QUERIES - 1));
         plm_fiber_sample_rec rec;
-        if (plm_fiber_sample(&b->params, &b->sets[i & (N_SETS - 1)], b->u[q][0], b->u[q][1], b->u[q][2], &rec))
+        if (plm_fiber_bcsdf_sample(&b->sets[i & (N_SETS - 1)], b->u[q][0], b->u[q][1], b->u[q][2], &rec))
             acc += rec.pdf;
     }
     b->sink = acc;
@@ -94,45 +98,65 @@ static vec3 random_direction(plm_rng *rng)
 
 int bench_fiber(int argc, char **argv)
 {
-    int runs = 7, calls = 200000, lobes = 5;
+    int runs = 7, calls = 200000, lobes = 5, cached = 0;
     plm_option opts[] = {
         {"--runs", PLM_OPT_INT, &runs, 0, 1, 64, NULL, "N", "timed runs; the median is reported (default 7)", 0},
         {"--calls", PLM_OPT_INT, &calls, 0, 1000, 100000000, NULL, "N", "calls per timed run (default 200000)", 0},
         {"--lobes", PLM_OPT_INT, &lobes, 0, 1, PLM_FIBER_SET_MAX_LOBES, NULL, "N", "lobes per set (default 5)", 0},
+        {"--cached", PLM_OPT_FLAG, &cached, 0, 0, 0, NULL, NULL,
+         "take the tables from the disk cache (no build time; for instruction counts under callgrind)", 0},
     };
     const plm_command_help help = {
         "plumage bench fiber [options]",
-        "Single-thread nanoseconds per fiber BCSDF call for the four Fig. 7 fibers, over random view and\n"
-        "light directions (uniform on the sphere) and h uniform in [-1, 1]: prepare + eval and prepare + sample\n"
-        "(what a shading query costs), and prepare, eval and sample alone. Median of --runs runs."};
+        "Single-thread nanoseconds per fiber BCSDF call for the four Fig. 7 fibers and both estimators\n"
+        "(stochastic, tabulated; docs/fiber.md), over random view and light directions (uniform on the\n"
+        "sphere) and h in [-1, 1]: prepare + eval and prepare + sample (what a shading query costs), and\n"
+        "prepare, eval and sample alone. Median of --runs runs. Then each table's build time on all cores\n"
+        "(built afresh, not from the cache) and its size."};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
     static fiber_bench b;
-    printf("fiber,lobes,prepare_eval_ns,prepare_sample_ns,prepare_ns,eval_ns,sample_ns,mean_lobes_kept\n");
+    printf("fiber,bcsdf,lobes,prepare_eval_ns,prepare_sample_ns,prepare_ns,eval_ns,sample_ns,build_s,table_mib\n");
     for (int v = 0; v < PLM_FIBER_FIGURE7_VARIANTS; ++v) {
         plm_fiber_params_figure7(&b.params, v);
         b.params.lobes = lobes;
-        plm_rng_seed(&b.rng, 2024, (uint64_t)v);
-        double kept = 0.0;
-        for (int q = 0; q < N_QUERIES; ++q) {
-            b.wo[q] = random_direction(&b.rng);
-            b.wi[q] = random_direction(&b.rng);
-            for (int k = 0; k < 3; ++k)
-                b.u[q][k] = plm_rng_uniform(&b.rng);
+        plm_fiber_table *table = NULL;
+        plm_fiber_table_options build = {0};
+        build.no_cache = !cached; /* timed afresh */
+        build.quiet = 1;
+        plm_error err;
+        if (plm_fiber_table_get(&b.params, &build, &table, &err) != PLM_OK) {
+            fprintf(stderr, "error: %s\n", err.message);
+            return 1;
         }
-        for (int q = 0; q < N_SETS; ++q) {
-            plm_fiber_prepare(&b.params, b.wo[q], -1.0, 1.0, &b.rng, &b.sets[q]);
-            kept += b.sets[q].count;
+        for (int tabulated = 0; tabulated < 2; ++tabulated) {
+            b.table = tabulated ? table : NULL;
+            plm_rng_seed(&b.rng, 2024, (uint64_t)v);
+            for (int q = 0; q < N_QUERIES; ++q) {
+                b.wo[q] = random_direction(&b.rng);
+                b.wi[q] = random_direction(&b.rng);
+                for (int k = 0; k < 3; ++k)
+                    b.u[q][k] = plm_rng_uniform(&b.rng);
+            }
+            for (int q = 0; q < N_SETS; ++q)
+                plm_fiber_bcsdf_prepare(&b.params, b.table, b.wo[q], -1.0, 1.0, &b.rng, &b.sets[q]);
+            double t_pe = plm_bench_ns_per_call(bench_prepare_eval, &b, calls, runs);
+            double t_ps = plm_bench_ns_per_call(bench_prepare_sample, &b, calls, runs);
+            double t_p = plm_bench_ns_per_call(bench_prepare, &b, calls, runs);
+            double t_e = plm_bench_ns_per_call(bench_eval, &b, calls, runs);
+            double t_s = plm_bench_ns_per_call(bench_sample, &b, calls, runs);
+            printf("%s,%s,%d,%.1f,%.1f,%.1f,%.1f,%.1f", plm_fiber_figure7_names[v],
+                   tabulated ? "tabulated" : "stochastic", lobes, t_pe, t_ps, t_p, t_e, t_s);
+            if (tabulated && !table->from_cache)
+                printf(",%.2f,%.1f\n", table->build_seconds, plm_fiber_table_bytes(table) / 1048576.0);
+            else if (tabulated)
+                printf(",cached,%.1f\n", plm_fiber_table_bytes(table) / 1048576.0);
+            else
+                printf(",,\n");
+            fflush(stdout);
         }
-        double t_pe = plm_bench_ns_per_call(bench_prepare_eval, &b, calls, runs);
-        double t_ps = plm_bench_ns_per_call(bench_prepare_sample, &b, calls, runs);
-        double t_p = plm_bench_ns_per_call(bench_prepare, &b, calls, runs);
-        double t_e = plm_bench_ns_per_call(bench_eval, &b, calls, runs);
-        double t_s = plm_bench_ns_per_call(bench_sample, &b, calls, runs);
-        printf("%s,%d,%.1f,%.1f,%.1f,%.1f,%.1f,%.2f\n", plm_fiber_figure7_names[v], lobes, t_pe, t_ps, t_p, t_e, t_s,
-               kept / N_SETS);
-        fflush(stdout);
+        plm_fiber_table_free(table);
     }
     return 0;
 }

@@ -313,11 +313,6 @@ static rgb column(const plm_fiber_table_query *q, int c, int col)
     return rgb_make(r, g, b);
 }
 
-static rgb bin_mass(const plm_fiber_table_query *q, int c, int bin)
-{
-    return rgb_sub(column(q, c, bin + 1), column(q, c, bin));
-}
-
 static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, plm_fiber_table_query *q)
 {
     q->table = t;
@@ -397,49 +392,44 @@ static int table_angles(const plm_fiber_table_query *q, vec3 wi, double *theta, 
     return 1;
 }
 
-static int bin_of(const plm_fiber_table *t, double delta)
+/* The table part at wi: eval (G_M N / cos^2(theta_i), N interpolated
+ * linearly between the two nearest bin centres) into *f if f is not NULL,
+ * and the sampler's density (G_M times the piecewise-constant bin density,
+ * per solid angle) into *pdf. The bin holding wi is one of the two eval
+ * interpolates, so the pdf comes almost free with eval. */
+static void table_lookup(const plm_fiber_table_query *q, vec3 wi, rgb *f, double *pdf)
 {
-    int b = (int)floor((delta + PLM_PI) / bin_width(t));
-    return b < 0 ? 0 : b >= t->phi_bins ? t->phi_bins - 1 : b;
-}
-
-/* eval cos(theta_i) = G_M N / cos(theta_i), N linearly interpolated between bin centres. */
-static rgb table_eval(const plm_fiber_table_query *q, vec3 wi)
-{
+    if (f)
+        *f = rgb_gray(0.0);
+    *pdf = 0.0;
     double theta, delta, ct;
     if (!(q->total > 0.0) || !table_angles(q, wi, &theta, &delta, &ct))
-        return rgb_gray(0.0);
+        return;
     const plm_fiber_table *t = q->table;
     double gm = plm_fiber_gm(t->params.beta_m, q->gm_scale, theta + q->theta_o);
     if (gm == 0.0)
-        return rgb_gray(0.0);
-    double w = bin_width(t), x = (delta + PLM_PI) / w - 0.5, fl = floor(x), f = x - fl;
-    int b0 = ((int)fl + t->phi_bins) % t->phi_bins, b1 = (b0 + 1) % t->phi_bins;
-    rgb n = rgb_gray(0.0);
-    for (int c = 0; c < 4; ++c)
-        if (q->weight[c] > 0.0)
-            n = rgb_add(n, rgb_scale(rgb_add(rgb_scale(bin_mass(q, c, b0), 1.0 - f), rgb_scale(bin_mass(q, c, b1), f)),
-                                     q->weight[c]));
-    double s = gm / (w * ct * ct);
-    return rgb_make(fmax(0.0, n.r * s), fmax(0.0, n.g * s), fmax(0.0, n.b * s));
-}
-
-/* G_M times the piecewise-constant azimuthal density of the sampler, per solid angle. */
-static double table_pdf(const plm_fiber_table_query *q, vec3 wi)
-{
-    double theta, delta, ct;
-    if (!(q->total > 0.0) || !table_angles(q, wi, &theta, &delta, &ct))
-        return 0.0;
-    const plm_fiber_table *t = q->table;
-    double gm = plm_fiber_gm(t->params.beta_m, q->gm_scale, theta + q->theta_o);
-    if (gm == 0.0)
-        return 0.0;
-    int b = bin_of(t, delta);
-    double m = 0.0;
-    for (int c = 0; c < 4; ++c)
-        if (q->weight[c] > 0.0)
-            m += q->weight[c] * fmax(0.0, rgb_mean(bin_mass(q, c, b)));
-    return gm * m / (q->total * bin_width(t) * ct);
+        return;
+    int n = t->phi_bins;
+    double w = bin_width(t), x = (delta + PLM_PI) / w - 0.5, fl = floor(x), frac = x - fl;
+    int b0 = ((int)fl + n) % n, b1 = b0 + 1 < n ? b0 + 1 : 0, upper = frac >= 0.5; /* wi lies in b1 if upper */
+    rgb sum = rgb_gray(0.0);
+    double mass = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        if (!(q->weight[c] > 0.0))
+            continue;
+        rgb c0 = column(q, c, b0), c1 = column(q, c, b0 + 1);
+        rgb m0 = rgb_sub(c1, c0), m1 = f || upper ? rgb_sub(b1 ? column(q, c, b1 + 1) : column(q, c, 1),
+                                                              b1 ? c1 : column(q, c, 0))
+                                                  : m0;
+        if (f)
+            sum = rgb_add(sum, rgb_scale(rgb_add(rgb_scale(m0, 1.0 - frac), rgb_scale(m1, frac)), q->weight[c]));
+        mass += q->weight[c] * fmax(0.0, rgb_mean(upper ? m1 : m0));
+    }
+    if (f) {
+        double s = gm / (w * ct * ct);
+        *f = rgb_make(fmax(0.0, sum.r * s), fmax(0.0, sum.g * s), fmax(0.0, sum.b * s));
+    }
+    *pdf = gm * mass / (q->total * w * ct);
 }
 
 /* A node by weight_c corner_total_c (u0), a bin of it by its CDF (u2, then
@@ -499,17 +489,36 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
     out->pick_table = out->total > 0.0 ? out->tab.total / out->total : 0.0;
 }
 
+/* eval into *f (if not NULL) and the mixture's pdf. */
+static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, rgb *f, double *pdf)
+{
+    double tab_pdf = 0.0;
+    if (b->tab.table)
+        table_lookup(&b->tab, wi, f, &tab_pdf);
+    else if (f)
+        *f = rgb_gray(0.0);
+    *pdf = b->pick_table * tab_pdf;
+    if (b->set.count > 0) {
+        if (f)
+            *f = rgb_add(*f, plm_fiber_eval(b->params, &b->set, wi));
+        if (b->pick_table < 1.0)
+            *pdf += (1.0 - b->pick_table) * plm_fiber_pdf(b->params, &b->set, wi);
+    }
+}
+
 rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
 {
-    rgb f = b->set.count > 0 ? plm_fiber_eval(b->params, &b->set, wi) : rgb_gray(0.0);
-    return b->tab.table ? rgb_add(f, table_eval(&b->tab, wi)) : f;
+    rgb f;
+    double unused;
+    bcsdf_lookup(b, wi, &f, &unused);
+    return f;
 }
 
 double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi)
 {
-    double pdf = b->pick_table < 1.0 && b->set.count > 0
-                     ? (1.0 - b->pick_table) * plm_fiber_pdf(b->params, &b->set, wi) : 0.0;
-    return b->pick_table > 0.0 ? pdf + b->pick_table * table_pdf(&b->tab, wi) : pdf;
+    double pdf;
+    bcsdf_lookup(b, wi, NULL, &pdf);
+    return pdf;
 }
 
 int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec)
@@ -531,11 +540,13 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
         wi = part.wi;
         rec->lobe = part.lobe;
     }
-    double pdf = plm_fiber_bcsdf_pdf(b, wi), ct = sqrt(wi.x * wi.x + wi.y * wi.y);
+    rgb f;
+    double pdf, ct = sqrt(wi.x * wi.x + wi.y * wi.y);
+    bcsdf_lookup(b, wi, &f, &pdf);
     if (!(pdf > 0.0))
         return 0;
     rec->wi = wi;
     rec->pdf = pdf;
-    rec->weight = rgb_scale(plm_fiber_bcsdf_eval(b, wi), ct / pdf);
+    rec->weight = rgb_scale(f, ct / pdf);
     return 1;
 }
