@@ -1,8 +1,9 @@
 /* plumage bench render: samples per second per thread and peak memory of the
- * path tracer on (a) one feather at 256x512 and (b) 2,500 instanced feathers
- * over a plane at 512x256, both under an environment map with maximum depth
- * 16; and a trace-only pass (same camera rays and bounce count, no shading)
- * so the shading overhead shows as a ratio. The feather is generated from a
+ * path tracer on (a) one feather at 256x512, (b) 2,500 instanced feathers
+ * over a plane at 512x256 and (c) a close-up of one feather whose vane fills
+ * the 256x256 frame, all under an environment map with maximum depth 16; and
+ * a trace-only pass (same camera rays and bounce count, no shading) so the
+ * shading overhead shows as a ratio. The feather is generated from a
  * species preset, or (--vane-quad) a curled quad cut out by an analytic
  * feather texture. */
 #include <math.h>
@@ -102,8 +103,27 @@ static int add_species(plm_scene *s, const char *species, plm_tile_feather *p, p
     return 1;
 }
 
-static int build_scene(plm_scene *s, int feathers, int width, int height, const char *species, int diffuse,
-                       plm_error *err)
+/* A camera 0.2 units above the vane, beside the rachis, with a 20 degree
+ * field of view: the vane fills the frame. */
+static void close_up(plm_scene *s, const plm_tile_feather *p)
+{
+    const plm_mesh *m = &s->meshes[p->mesh[0]].mesh;
+    vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (int v = 0; v < m->vertex_count; ++v) {
+        vec3 q = v3(m->positions[3 * v], m->positions[3 * v + 1], m->positions[3 * v + 2]);
+        lo = v3(fmin(lo.x, q.x), fmin(lo.y, q.y), fmin(lo.z, q.z));
+        hi = v3(fmax(hi.x, q.x), fmax(hi.y, q.y), fmax(hi.z, q.z));
+    }
+    vec3 at = v3_scale(v3(0.5 * (lo.x + hi.x) + 0.12 * (hi.x - lo.x), lo.y + 0.55 * (hi.y - lo.y), hi.z), p->scale);
+    s->camera.given = 1;
+    s->camera.up = v3(0, 1, 0);
+    s->camera.look_at = at;
+    s->camera.position = v3_add(at, v3(0.0, -0.05, 0.2));
+    s->camera.fov = 20;
+}
+
+static int build_scene(plm_scene *s, int feathers, int closeup, int width, int height, const char *species,
+                       int diffuse, plm_error *err)
 {
     plm_scene_init(s);
     s->film.width = width;
@@ -122,6 +142,8 @@ static int build_scene(plm_scene *s, int feathers, int width, int height, const 
         for (int k = 0; k < proto.count; ++k)
             if (plm_scene_add_object(s, proto.mesh[k], proto.material[k], scale) < 0)
                 return 0;
+        if (closeup)
+            close_up(s, &proto);
         return 1;
     }
     if (plm_scene_add_ground(s, 40.0, rgb_gray(0.3), err) < 0)
@@ -136,19 +158,28 @@ static int build_scene(plm_scene *s, int feathers, int width, int height, const 
 }
 
 typedef struct bench_options {
-    int threads, spp, feathers, diffuse, vane_quad;
-    const char *species, *images;
+    int threads, spp, feathers, diffuse, vane_quad, downscale, shaded_only;
+    const char *species, *images, *bcsdf, *cases;
+    plm_bcsdf_kind kind;
 } bench_options;
 
 static int run_case(const char *label, const char *tag, int feathers, int width, int height, const bench_options *o)
 {
+    if (!strchr(o->cases, tag[0]))
+        return 0;
     plm_scene scene;
     plm_error err = {{0}};
-    if (!build_scene(&scene, feathers, width, height, o->vane_quad ? NULL : o->species, o->diffuse, &err)) {
+    width = (width + o->downscale - 1) / o->downscale;
+    height = (height + o->downscale - 1) / o->downscale;
+    if (!build_scene(&scene, feathers, tag[0] == 'c', width, height, o->vane_quad ? NULL : o->species, o->diffuse,
+                     &err)) {
         fprintf(stderr, "error: %s\n", err.message[0] ? err.message : "out of memory");
         plm_scene_free(&scene);
         return 1;
     }
+    for (int i = 0; i < scene.material_count; ++i)
+        if (scene.materials[i].feather)
+            scene.materials[i].feather->bcsdf = o->kind;
     plm_world world;
     double t0 = plm_bench_seconds();
     if (plm_world_build(&scene, &world, &err) != PLM_OK) {
@@ -162,21 +193,25 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
     opt.spp = o->spp;
     plm_film shaded, traced;
     plm_render_world(&world, &opt, &shaded, &err);
-    if (o->images) { /* to look at what was measured */
-        char path[4096];
-        snprintf(path, sizeof path, "%s_%s.png", o->images, tag);
-        if (plm_film_write(&shaded, NULL, path, 0.0, &err) != PLM_OK)
+    if (o->images) { /* to look at what was measured, and to compare (EXR) */
+        char png[4096], exr[4096];
+        snprintf(png, sizeof png, "%s_%s.png", o->images, tag);
+        snprintf(exr, sizeof exr, "%s_%s.exr", o->images, tag);
+        if (plm_film_write(&shaded, exr, png, 0.0, &err) != PLM_OK)
             fprintf(stderr, "error: %s\n", err.message);
     }
     opt.trace_only = 1;
-    plm_render_world(&world, &opt, &traced, &err);
+    if (o->shaded_only)
+        traced = (plm_film){.ray_count = 0, .seconds = 1.0};
+    else
+        plm_render_world(&world, &opt, &traced, &err);
     double per_thread = 1.0 / shaded.threads;
     double samples_rate = shaded.sample_count / shaded.seconds * per_thread;
     double shaded_rays = shaded.ray_count / shaded.seconds * per_thread;
     double traced_rays = traced.ray_count / traced.seconds * per_thread;
-    printf("%-30s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f\n", label, width, height, o->spp,
+    printf("%-30s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f %9.2f\n", label, width, height, o->spp,
            shaded.threads, samples_rate, shaded_rays, traced_rays, traced_rays / shaded_rays, build,
-           plm_memory_peak_mib());
+           plm_memory_peak_mib(), shaded.seconds);
     if (shaded.nonfinite)
         printf("  (%lld non-finite samples dropped)\n", shaded.nonfinite);
     plm_film_free(&shaded);
@@ -188,7 +223,8 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
 
 int bench_render(int argc, char **argv)
 {
-    bench_options o = {0, 16, 2500, 0, 0, "presets/species/covert_parrot.json", NULL};
+    bench_options o = {0, 16, 2500, 0, 0, 1, 0, "presets/species/covert_parrot.json", NULL, "tabulated", "abc",
+                       PLM_BCSDF_TABULATED};
     plm_option opts[] = {
         {"--threads", PLM_OPT_INT, &o.threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
         {"--spp", PLM_OPT_INT, &o.spp, 0, 1, 65536, NULL, "N", "samples per pixel of each pass (default 16)", 0},
@@ -199,12 +235,20 @@ int bench_render(int argc, char **argv)
          "instead a curled quad cut out by an analytic feather texture", 0},
         {"--diffuse", PLM_OPT_FLAG, &o.diffuse, 0, 0, 0, NULL, NULL, "diffuse vanes instead of the feather BSDF", 0},
         {"--images", PLM_OPT_STRING, &o.images, 0, 0, 0, NULL, "PREFIX",
-         "also write the shaded images as PREFIX_a.png and PREFIX_b.png", 0},
+         "also write the shaded images as PREFIX_a.png, PREFIX_a.exr and so on", 0},
+        {"--bcsdf", PLM_OPT_STRING, &o.bcsdf, 0, 0, 0, NULL, "NAME",
+         "the fiber estimator: tabulated (default) or stochastic (docs/fiber.md)", 0},
+        {"--cases", PLM_OPT_STRING, &o.cases, 0, 0, 0, NULL, "LETTERS", "which cases to run (default abc)", 0},
+        {"--downscale", PLM_OPT_INT, &o.downscale, 0, 1, 64, NULL, "N",
+         "divide each case's width and height by N (for expensive references)", 0},
+        {"--shaded-only", PLM_OPT_FLAG, &o.shaded_only, 0, 0, 0, NULL, NULL,
+         "skip the trace-only pass (no shading ratio)", 0},
     };
     plm_command_help help = {
         "plumage bench render [options]",
-        "Samples per second per thread of the path tracer (max depth 16, environment map) on one feather at\n"
-        "256x512 and on a pelt of instanced feathers over a plane at 512x256, then the same rays traced\n"
+        "Samples per second per thread of the path tracer (max depth 16, environment map) on (a) one feather\n"
+        "at 256x512, (b) a pelt of instanced feathers over a plane at 512x256 and (c) a close-up whose vane\n"
+        "fills the 256x256 frame, then the same rays traced\n"
         "without shading. Rays are surface and shadow queries; 'shading x' is the cost of a shaded ray over a\n"
         "trace-only ray (rays/s of the trace-only pass over rays/s of the shaded one). Peak memory is the\n"
         "process's so far (it includes the libraries and the first scene). The feather is generated from a\n"
@@ -213,12 +257,17 @@ int bench_render(int argc, char **argv)
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
-    printf("%-30s %9s %4s %7s %16s %14s %14s %9s %8s %9s\n", "scene", "size", "spp", "threads", "samples/s/thread",
-           "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB");
+    if (strcmp(o.bcsdf, "tabulated") != 0 && strcmp(o.bcsdf, "stochastic") != 0) {
+        fprintf(stderr, "error: --bcsdf %s: must be tabulated or stochastic\n", o.bcsdf);
+        return 2;
+    }
+    o.kind = strcmp(o.bcsdf, "stochastic") == 0 ? PLM_BCSDF_STOCHASTIC : PLM_BCSDF_TABULATED;
+    printf("%-30s %9s %4s %7s %16s %14s %14s %9s %8s %9s %9s\n", "scene", "size", "spp", "threads",
+           "samples/s/thread", "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB", "shaded s");
     char one[64], pelt[64];
     snprintf(one, sizeof one, "(a) one feather%s", o.vane_quad ? " (vane quad)" : "");
     snprintf(pelt, sizeof pelt, "(b) %d instanced feathers", o.feathers);
-    if (run_case(one, "a", 1, 256, 512, &o) != 0)
+    if (run_case(one, "a", 1, 256, 512, &o) != 0 || run_case(pelt, "b", o.feathers, 512, 256, &o) != 0)
         return 1;
-    return run_case(pelt, "b", o.feathers, 512, 256, &o);
+    return run_case("(c) close-up of one feather", "c", 1, 256, 256, &o);
 }

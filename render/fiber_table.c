@@ -57,8 +57,11 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
      * fine h cells and theta_o nodes; otherwise phi_o nodes take what the
      * memory budget leaves (docs/fiber.md has the errors). */
     int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
-    t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? 256 : 48;
     t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 32 : 12;
+    size_t row_bytes = sizeof(float) * row_floats(t);
+    int rows = (int)(PLM_FIBER_TABLE_BUDGET / (row_bytes * (size_t)t->theta_nodes));
+    t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 48;
+    t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
     t->theta_max = plm_radians(89.0);
     static const double span[] = {0.0, HALF_PI, PLM_PI, PLM_PI, PLM_TWO_PI};
     static const double lo[] = {0.0, 0.0, -HALF_PI, 0.0, -PLM_PI};

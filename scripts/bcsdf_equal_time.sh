@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Equal-time image error of the two fiber estimators (docs/fiber.md) on the
+# scenes of `plumage bench render`: a stochastic reference at REF_SPP samples
+# per pixel, the stochastic estimator at SPP, the tabulated one at the sample
+# count that takes the same time, and the RMSE of each against the reference
+# (oiiotool --diff). Also a side-by-side crop of case c (close-up) as a PNG.
+#
+#   scripts/bcsdf_equal_time.sh PLUMAGE OUTDIR [CASES] [DOWNSCALE] [SPP] [REF_SPP]
+#
+# Run from the repository root (the bench generates the feather from a preset).
+# Defaults: cases abc, downscale 8 (4096 spp references of the full images cost
+# hours on two cores), 16 spp, a 4096 spp reference.
+set -euo pipefail
+plumage=$1 out=$2 cases=${3:-abc} down=${4:-8} spp=${5:-16} ref_spp=${6:-4096}
+mkdir -p "$out"
+bench() { # bcsdf spp prefix case -> prints the shaded seconds
+    "$plumage" bench render --cases "$4" --bcsdf "$1" --spp "$2" --downscale "$down" --shaded-only \
+        --images "$3" | awk 'NR == 2 { print $NF }'
+}
+rms() { oiiotool "$1" "$2" --diff 2>&1 | awk '/RMS error/ { print $3 }' || true; }
+printf "%-4s %-10s %6s %9s %12s\n" case bcsdf spp seconds rmse
+for c in $(echo "$cases" | fold -w1); do
+    [ -f "$out/ref_$c.exr" ] || bench stochastic "$ref_spp" "$out/ref" "$c" > /dev/null
+    ts=$(bench stochastic "$spp" "$out/stochastic" "$c")
+    tt=$(bench tabulated "$spp" "$out/probe" "$c")
+    # the tabulated sample count that takes as long as the stochastic render
+    n=$(awk -v s="$spp" -v a="$ts" -v b="$tt" 'BEGIN { n = int(s * a / b + 0.5); print n < 1 ? 1 : n }')
+    tn=$(bench tabulated "$n" "$out/tabulated" "$c")
+    printf "%-4s %-10s %6d %9.2f %12s\n" "$c" stochastic "$spp" "$ts" "$(rms "$out/ref_$c.exr" "$out/stochastic_$c.exr")"
+    printf "%-4s %-10s %6d %9.2f %12s\n" "$c" tabulated "$n" "$tn" "$(rms "$out/ref_$c.exr" "$out/tabulated_$c.exr")"
+done

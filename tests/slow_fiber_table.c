@@ -1,0 +1,94 @@
+/* The tabulated fiber BCSDF's accuracy at its default resolution against
+ * the exact mean over h (tests/fiber_table_stats.h), for the four Fig. 7
+ * fibers and random parameter sets: relative L2 per channel over random
+ * (wo, wi, h-interval), wi at the lobes and uniform on the sphere.
+ * Rotationally symmetric fibers (a circular cortex, no or a centred circular
+ * medulla) must be within 1%; for the others the errors are printed (they
+ * are larger, see docs/fiber.md: their tables interpolate between phi_o
+ * nodes, which blurs caustics that move with the view). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "tests/fiber_table_stats.h"
+
+/* Prints the errors of p's default table; returns the largest. */
+static double default_table_error(const plm_fiber_params *p, const char *name, plm_rng *rng, int *symmetric)
+{
+    plm_fiber_table_options o = {0};
+    o.quiet = 1;
+    plm_fiber_table *t = NULL;
+    plm_error err;
+    if (plm_fiber_table_get(p, &o, &t, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    *symmetric = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
+    double worst = 0.0;
+    for (int uniform = 0; uniform < 2; ++uniform) {
+        double e[3];
+        table_error(t, rng, 400, uniform, 2000, e);
+        fprintf(stderr, "%-28s %-10s wi %-8s relative L2 %.4f %.4f %.4f (%d x %d nodes, %d h cells, %d bins, %.1f MiB)\n",
+                name, *symmetric ? "circular" : "elliptical", uniform ? "uniform" : "at lobes", e[0], e[1], e[2],
+                t->theta_nodes, t->phi_nodes, t->h_cells, t->phi_bins, plm_fiber_table_bytes(t) / 1048576.0);
+        for (int c = 0; c < 3; ++c)
+            worst = fmax(worst, e[c]);
+    }
+    plm_fiber_table_free(t);
+    return worst;
+}
+
+static void figure7_fibers(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 2024, 7);
+    for (int v = 0; v < PLM_FIBER_FIGURE7_VARIANTS; ++v) {
+        plm_fiber_params p;
+        plm_fiber_params_figure7(&p, v);
+        int symmetric;
+        double worst = default_table_error(&p, plm_fiber_figure7_names[v], &rng, &symmetric);
+        if (symmetric)
+            assert_true(worst <= 0.01);
+    }
+}
+
+/* Random fibers; every other one circular (with a centred circular medulla or none). */
+static void random_fibers(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 77, 1);
+    for (int i = 0; i < 8;) {
+        plm_fiber_params p;
+        plm_fiber_params_default(&p);
+        p.eta = 1.3 + 0.4 * plm_rng_uniform(&rng);
+        p.sigma_a = rgb_make(3.0 * plm_rng_uniform(&rng), plm_rng_uniform(&rng), 0.1 * plm_rng_uniform(&rng));
+        p.beta_m = plm_radians(3.0 + 20.0 * plm_rng_uniform(&rng));
+        p.beta_n = plm_radians(4.0 + 20.0 * plm_rng_uniform(&rng));
+        int circular = i % 2 == 0;
+        p.eccentricity = circular ? 1.0 : 1.1 + 0.8 * plm_rng_uniform(&rng);
+        if (plm_rng_uniform(&rng) < 0.5) {
+            p.medulla_a = p.medulla_b = 0.2 + 0.5 * plm_rng_uniform(&rng);
+            p.medulla_reflectance = rgb_gray(plm_rng_uniform(&rng));
+        }
+        if (plm_fiber_params_validate(&p, NULL) != PLM_OK)
+            continue;
+        char name[64];
+        snprintf(name, sizeof name, "random %d (e %.2f, bn %.1f deg)", i, p.eccentricity, plm_degrees(p.beta_n));
+        int symmetric;
+        double worst = default_table_error(&p, name, &rng, &symmetric);
+        if (symmetric)
+            assert_true(worst <= 0.01);
+        ++i;
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(figure7_fibers),
+        cmocka_unit_test(random_fibers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
