@@ -38,13 +38,27 @@ static void param_words(const plm_fiber_params *p, double *w)
         w[i] = v[i] + 0.0;
 }
 
-/* FNV-1a, 64 bits. */
+/* FNV-1a, 64 bits, over bytes (the header and the key). */
 static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *b = data;
     for (size_t i = 0; i < n; ++i)
         h = (h ^ b[i]) * 0x100000001b3ull;
     return h;
+}
+
+/* The data's checksum: FNV-1a's step over 64-bit words (8 times fewer steps
+ * than bytes, so checking a 32 MiB table costs milliseconds), then the tail. */
+static uint64_t checksum(uint64_t h, const float *data, size_t floats)
+{
+    size_t words = floats / 2;
+    for (size_t i = 0; i < words; ++i) {
+        uint64_t w;
+        memcpy(&w, data + 2 * i, sizeof w);
+        h = (h ^ w) * 0x100000001b3ull;
+        h ^= h >> 29;
+    }
+    return fnv1a(h, data + 2 * words, sizeof(float) * (floats - 2 * words));
 }
 
 static const uint64_t fnv_basis = 0xcbf29ce484222325ull;
@@ -115,7 +129,7 @@ static int load(plm_fiber_table *t, const char *path)
     expected_header(t, &want);
     int ok = fread(&got, sizeof got, 1, fp) == 1 && memcmp(&got, &want, offsetof(cache_header, checksum)) == 0 &&
              fread(t->data, sizeof(float), t->floats, fp) == t->floats && fgetc(fp) == EOF &&
-             fnv1a(fnv_basis, t->data, sizeof(float) * t->floats) == got.checksum;
+             checksum(fnv_basis, t->data, t->floats) == got.checksum;
     fclose(fp);
     return ok;
 }
@@ -133,7 +147,7 @@ static plm_result save(const plm_fiber_table *t, const char *path, plm_error *er
     }
     cache_header h;
     expected_header(t, &h);
-    h.checksum = fnv1a(fnv_basis, t->data, sizeof(float) * t->floats);
+    h.checksum = checksum(fnv_basis, t->data, t->floats);
     plm_atomic_file f;
     plm_result rc = plm_atomic_open(&f, path, err);
     if (rc != PLM_OK)

@@ -17,7 +17,7 @@ bench() { # bcsdf spp prefix case -> prints the shaded seconds
     "$plumage" bench render --cases "$4" --bcsdf "$1" --spp "$2" --downscale "$down" --shaded-only \
         --images "$3" | awk 'NR == 2 { print $NF }'
 }
-rms() { oiiotool "$1" "$2" --diff 2>&1 | awk '/RMS error/ { print $3 }' || true; }
+rms() { oiiotool "$1" "$2" --diff 2>&1 | awk '/RMS error/ { print $4 }' || true; }
 printf "%-4s %-10s %6s %9s %12s\n" case bcsdf spp seconds rmse
 for c in $(echo "$cases" | fold -w1); do
     [ -f "$out/ref_$c.exr" ] || bench stochastic "$ref_spp" "$out/ref" "$c" > /dev/null
