@@ -87,9 +87,27 @@ static int contact_sheet(const char *out, const char **files, int n, const plm_f
     return ok ? 0 : 1;
 }
 
+/* A close-up of the barb coordinate: twelve barb spacings square, centred
+ * halfway out on the wider vane at mid-length. */
+static plm_result barb_preview(const plm_feather *f, const char *out, plm_error *err)
+{
+    const plm_outline *o = &f->outline;
+    const int size = 512;
+    int side = o->widest[1] >= o->widest[0];
+    double y = o->vane_base + 0.5 * o->vane_length;
+    double x = (side ? 0.5 : -0.5) * (plm_outline_rachis_radius(o, y) + plm_outline_width(o, side, 0.5));
+    float *rgb = malloc(sizeof(float) * 3 * size * size);
+    if (!rgb)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory", out);
+    plm_preview_barb_coordinate(f, v2(x, y), 12.0 * 10.0 / o->shape.barb_density, size, size, rgb);
+    plm_result rc = plm_image_write_srgb_png(out, size, size, rgb, 0.0, err);
+    free(rgb);
+    return rc;
+}
+
 static int run(int argc, char **argv, int textures_only)
 {
-    const char *species = NULL, *output = NULL, *sheet = NULL;
+    const char *species = NULL, *output = NULL, *sheet = NULL, *barb_png = NULL;
     int level = PLM_FEATHER_DEFAULT_LEVEL, size = 1024, tw = 0, th = 0, obj = 0, no_pigment = 0, format = 0;
     int tile = 512;
     plm_option opts[] = {
@@ -101,6 +119,8 @@ static int run(int argc, char **argv, int textures_only)
         {"--texture-height", PLM_OPT_INT, &th, 0, 8, 16384, NULL, "N", "texture height (overrides --texture-size)", 0},
         {"--format", PLM_OPT_CHOICE, &format, 0, 0, 0, formats, "F", "texture files: both (default), exr or png", 0},
         {"--no-pigment", PLM_OPT_FLAG, &no_pigment, 0, 0, 0, NULL, NULL, "skip the pigment image", 0},
+        {"--barb-preview", PLM_OPT_STRING, &barb_png, 0, 0, 0, NULL, "PNG",
+         "also write a close-up of the barb coordinate (docs/generating.md)", 0},
         {"--level", PLM_OPT_INT, &level, 0, 1, 6, NULL, "N", "subdivision level of the meshes (default 3)", 0},
         {"--obj", PLM_OPT_FLAG, &obj, 0, 0, 0, NULL, NULL, "also write the meshes as OBJ", 0},
         {"--contact-sheet", PLM_OPT_STRING, &sheet, 0, 0, 0, NULL, "PNG",
@@ -115,7 +135,7 @@ static int run(int argc, char **argv, int textures_only)
         "feather.json, a scene for 'plumage render'. docs/species.md documents every species field,\n"
         "docs/generating.md the files written."};
     const plm_command_help texture_help = {
-        "plumage texture --species FILE -o DIR [--texture-size N] [--format F] [--no-pigment]",
+        "plumage texture --species FILE -o DIR [--texture-size N] [--format F] [--no-pigment] [--barb-preview PNG]",
         "Writes texture.exr/.png (barb direction and regions) and pigment.exr/.png for a species, as\n"
         "'plumage generate' does, without the meshes or the scene."};
     const plm_command_help *help = textures_only ? &texture_help : &generate_help;
@@ -153,6 +173,8 @@ static int run(int argc, char **argv, int textures_only)
         triangles[1] = f.rachis.triangle_count;
         r = textures_only ? plm_feather_write_textures(&f, output, &files, &err)
                           : plm_feather_write(&f, optics, output, &files, &err);
+        if (r == PLM_OK && barb_png)
+            r = barb_preview(&f, barb_png, &err);
         plm_feather_free(&f);
     }
     plm_species_free(&sp);

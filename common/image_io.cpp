@@ -43,6 +43,10 @@ static plm_result image_write(const char *path, int width, int height, int chann
     // OpenImageIO stamps EXR headers with the current time unless told not to;
     // an empty DateTime keeps the same pixels byte-identical across runs.
     spec.attribute("DateTime", "");
+    // Every image plumage writes is data (a fourth channel is no alpha to
+    // premultiply by, e.g. the feather texture's barb coordinate): write and
+    // read it as it is, never associated (docs/generating.md).
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     // OpenImageIO does not notice a failed write (a full disk), so formats that
     // can are encoded in memory and written by plm_write_file, which does.
     std::vector<unsigned char> bytes;
@@ -74,8 +78,9 @@ static plm_result image_read(const char *path, int *width, int *height, int *cha
     // Only the reader of the format the extension names: a file is never
     // offered to every other format's decoder (docs/robustness.md).
     auto in = ImageInput::create(path);
-    ImageSpec spec;
-    if (!in || !in->open(path, spec)) {
+    ImageSpec spec, config;
+    config.attribute("oiio:UnassociatedAlpha", 1); // as written: see image_write
+    if (!in || !in->open(path, spec, config)) {
         std::string msg = in ? in->geterror() : OIIO::geterror();
         return plm_fail(err, PLM_ERR_IO, "%s: cannot read image: %s", path, msg.c_str());
     }

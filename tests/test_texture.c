@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/feather_texture_contract.h"
 #include "texture/feather.h"
 #include "texture/preview.h"
 #include "texture/texture.h"
@@ -347,6 +348,163 @@ static void the_vane_mesh_covers_every_vane_texel(void **state)
     }
 }
 
+
+/* The barb coordinate at uv as the contract says to filter it: the four
+ * nearest texels unwrapped along rows and columns (never diagonally, where a
+ * step can pass half a period), then bilinear. */
+static double barb_coordinate_at(const plm_image *b, vec2 uv)
+{
+    double x = uv.x * b->width - 0.5, y = (1.0 - uv.y) * b->height - 0.5;
+    int i0 = (int)floor(x), j0 = (int)floor(y);
+    double fx = x - i0, fy = y - j0, c[2][2];
+    for (int dj = 0; dj < 2; ++dj)
+        for (int di = 0; di < 2; ++di) {
+            int i = (int)plm_clamp(i0 + di, 0, b->width - 1), j = (int)plm_clamp(j0 + dj, 0, b->height - 1);
+            float value = b->pixels[(size_t)j * b->width + i];
+            c[dj][di] = di ? plm_ftex_barb_unwrap(value, c[dj][0]) : (dj ? plm_ftex_barb_unwrap(value, c[0][0]) : value);
+        }
+    return (1.0 - fy) * ((1.0 - fx) * c[0][0] + fx * c[0][1]) + fy * ((1.0 - fx) * c[1][0] + fx * c[1][1]);
+}
+
+/* Whether the four texels bilinear filtering at uv reads are all vane. */
+static int among_vane_texels(const plm_feather *f, vec2 uv)
+{
+    double x = uv.x * f->texture.width - 0.5, y = (1.0 - uv.y) * f->texture.height - 0.5;
+    int i0 = (int)floor(x), j0 = (int)floor(y), all = 1;
+    for (int k = 0; k < 4; ++k) {
+        int i = (int)plm_clamp(i0 + (k & 1), 0, f->texture.width - 1), j = (int)plm_clamp(j0 + (k >> 1), 0, f->texture.height - 1);
+        all = all && plm_texture_region_of(texel_at(&f->texture, i, j)[2]) == PLM_FLAT_VANE;
+    }
+    return all;
+}
+
+/* The largest change of the coordinate between two vane texels next to each
+ * other in a row or a column on one side of the feather (past the rachis's
+ * end the two vanes meet, and their barbs are unrelated): under half a
+ * period, unwrapping recovers it. */
+static double barb_coordinate_step_max(const plm_feather *f)
+{
+    const plm_image *b = &f->barb;
+    double worst = 0.0;
+    for (int j = 0; j + 1 < b->height; ++j)
+        for (int i = 0; i + 1 < b->width; ++i) {
+            if (plm_texture_region_of(texel_at(&f->texture, i, j)[2]) != PLM_FLAT_VANE)
+                continue;
+            float w = b->pixels[(size_t)j * b->width + i];
+            for (int k = 0; k < 2; ++k) {
+                int ni = i + !k, nj = j + k;
+                if (plm_texture_region_of(texel_at(&f->texture, ni, nj)[2]) == PLM_FLAT_VANE &&
+                    (texel_x(f, i) > 0.0) == (texel_x(f, ni) > 0.0))
+                    worst = fmax(worst, fabs(plm_ftex_barb_unwrap(b->pixels[(size_t)nj * b->width + ni], w) - w));
+            }
+        }
+    return worst;
+}
+
+/* The sizes at which the tests below read each preset: the pigeon remex's
+ * outer vane near the tip has barbs so flat to the rachis that 1024 columns
+ * give more than half a period per texel there (docs/generating.md). */
+static const struct {
+    const char *name;
+    int size;
+} barb_presets[3] = {{"remex_pigeon", 2048}, {"covert_parrot", 1024}, {"hackle_pointed", 1024}};
+
+/* Barbs traced through the stored directions keep one barb coordinate. The
+ * trace stays within a texel height of its barb
+ * (stored_directions_are_tangents_of_the_barbs), which allows a drift of
+ * that times the density; where the texture resolves the phase it is far
+ * less, and both the drift and the coordinate read at each point against the
+ * generator's stream function stay under 1/50 of a period. */
+static void barb_coordinate_is_constant_along_traced_barbs(void **state)
+{
+    (void)state;
+    enum { MAX = 40000 };
+    vec2 *pts = malloc(sizeof *pts * MAX);
+    for (int s = 0; s < 3; ++s) {
+        plm_species sp = load_preset(barb_presets[s].name);
+        plm_feather f = textures_of(&sp, barb_presets[s].size);
+        const plm_outline *o = &f.outline;
+        assert_int_equal(f.barb.channels, 1);
+        double barbs_per_mm = sp.shape.barb_density / 10.0, texel_h = o->vane_length / f.texture.height;
+        double step = 0.25 / f.texture.width, drift = 0.0, misread = 0.0;
+        for (int side = 0; side < 2; ++side)
+            for (int k = 1; k <= 9; ++k) {
+                if (0.1 * k < sp.shape.plumulaceous + 0.05)
+                    continue; /* the fluffy base's down strands are too short to trace */
+                double y = o->vane_base + (0.1 * k + 0.013 * side) * o->vane_length;
+                int n = plm_preview_trace_barb(&f, side, y, step, pts, MAX);
+                assert_true(n > 10);
+                double start = barb_coordinate_at(&f.barb, pts[0]), previous = start;
+                for (int i = 1; i < n; ++i) {
+                    if (!among_vane_texels(&f, pts[i]))
+                        continue; /* the outline's edge: the contract blends only within a region */
+                    double w = barb_coordinate_at(&f.barb, pts[i]);
+                    vec2 p = plm_outline_flat(o, pts[i].x, pts[i].y);
+                    double exact = (plm_outline_sample(o, p.x, p.y).barb_origin - o->vane_base) * barbs_per_mm;
+                    misread = fmax(misread, fabs(plm_ftex_barb_unwrap(plm_ftex_encode_barb(w), exact) - exact));
+                    previous = plm_ftex_barb_unwrap(plm_ftex_encode_barb(w), previous);
+                    drift = fmax(drift, fabs(previous - start));
+                }
+            }
+        printf("%s at %d: coordinate drift along traced barbs %.4f of a period (a texel: %.4f), read error %.4f\n",
+               barb_presets[s].name, barb_presets[s].size, drift, texel_h * barbs_per_mm, misread);
+        assert_true(drift < fmin(0.02, texel_h * barbs_per_mm));
+        assert_true(misread < 0.02);
+        plm_feather_free(&f);
+        plm_species_free(&sp);
+    }
+    free(pts);
+}
+
+/* Along the vane just outside the rachis the coordinate wraps once per barb:
+ * the count between two heights is the species' density times the distance,
+ * less the change of the barbs' rise over the distance a from the centre line
+ * (a cot theta near the rachis, theta the barb angle parameter). Every step
+ * between neighbouring vane texels stays under half a period, so no wrap is
+ * missed: the texture resolves the phase. */
+static void barb_coordinate_period_is_the_barb_density(void **state)
+{
+    (void)state;
+    for (int s = 0; s < 3; ++s) {
+        const char *name = barb_presets[s].name;
+        plm_species sp = load_preset(name);
+        plm_feather f = textures_of(&sp, barb_presets[s].size);
+        const plm_outline *o = &f.outline;
+        double barbs_per_mm = sp.shape.barb_density / 10.0, texel_w = 2.0 * o->half_extent / f.texture.width;
+        double step_max = barb_coordinate_step_max(&f);
+        printf("%s: largest step between neighbouring texels %.3f of a period\n", name, step_max);
+        assert_true(step_max < 0.5);
+        double t0 = fmax(0.2, sp.shape.plumulaceous + 0.1); /* above the fluffy base */
+        int j0 = row_of(&f, o->vane_base + 0.8 * o->vane_length), j1 = row_of(&f, o->vane_base + t0 * o->vane_length);
+        double y0 = row_y(&f, j1), y1 = row_y(&f, j0);
+        for (int side = 0; side < 2; ++side) {
+            /* One column, a texel and a half off the rachis where it is widest (the rachis tapers). */
+            double a = plm_outline_rachis_radius(o, y0) + 1.5 * texel_w;
+            int i = column_of(&f, side ? a : -a), wraps = 0;
+            a = fabs(texel_x(&f, i));
+            double previous = -1.0;
+            for (int j = j1; j >= j0; --j) { /* base to tip: the coordinate rises */
+                assert_int_equal(plm_texture_region_of(texel_at(&f.texture, i, j)[2]), PLM_FLAT_VANE);
+                float w = f.barb.pixels[(size_t)j * f.barb.width + i];
+                if (previous >= 0.0) {
+                    assert_true(plm_ftex_barb_unwrap(w, previous) > previous);
+                    wraps += w < previous;
+                }
+                previous = w;
+            }
+            double cot0 = 1.0 / tan(plm_outline_barb_angle(o, side, y0));
+            double cot1 = 1.0 / tan(plm_outline_barb_angle(o, side, y1));
+            double expected = barbs_per_mm * ((y1 - y0) - a * (cot1 - cot0));
+            printf("%s side %d: %d wraps over %.1f mm, density x distance %.1f, with the rise %.1f\n", name,
+                   side, wraps, y1 - y0, barbs_per_mm * (y1 - y0), expected);
+            /* The ends sit anywhere within their periods. */
+            assert_true(fabs(wraps - expected) <= 1.0);
+        }
+        plm_feather_free(&f);
+        plm_species_free(&sp);
+    }
+}
+
 static void files_round_trip_and_runs_repeat(void **state)
 {
     (void)state;
@@ -366,11 +524,38 @@ static void files_round_trip_and_runs_repeat(void **state)
         assert_int_equal(back.width, 256);
         assert_int_equal(back.height, 256);
         assert_int_equal(back.channels, 3);
+        assert_false(plm_ftex_has_barb(back.channels)); /* a texture from before the coordinate */
         for (size_t i = 0; i < n; ++i)
             assert_double_near(back.pixels[i], f.texture.pixels[i], k ? 0.5 / 65535.0 + 1e-7 : 0.0);
         plm_texture_image_free(&back);
         remove(files[k]);
     }
+    /* The files plumage writes carry the barb coordinate as a fourth channel:
+     * exact in EXR, to 16-bit rounding in PNG (where 1 is the phase 0). */
+    assert_memory_equal(f.barb.pixels, g.barb.pixels, (size_t)256 * 256 * sizeof(float));
+    assert_int_equal(plm_feather_write_textures(&f, "texture_rt_dir", NULL, NULL), PLM_OK);
+    const char *written[2] = {"texture_rt_dir/texture.exr", "texture_rt_dir/texture.png"};
+    for (int k = 0; k < 2; ++k) {
+        plm_image back;
+        assert_int_equal(plm_image_read(written[k], &back.width, &back.height, &back.channels, &back.pixels, NULL),
+                         PLM_OK);
+        assert_int_equal(back.channels, PLM_FTEX_CHANNELS_WITH_BARB);
+        assert_true(plm_ftex_has_barb(back.channels));
+        double tol = k ? 0.5 / 65535.0 + 1e-7 : 0.0;
+        for (size_t i = 0; i < (size_t)256 * 256; ++i) {
+            const float *px = back.pixels + PLM_FTEX_CHANNELS_WITH_BARB * i;
+            for (int c = 0; c < PLM_FTEX_CHANNELS; ++c)
+                assert_double_near(px[c], f.texture.pixels[PLM_FTEX_CHANNELS * i + c], tol);
+            double stored = f.barb.pixels[i];
+            assert_double_near(plm_ftex_barb_unwrap(px[PLM_FTEX_BARB], stored), stored, tol);
+        }
+        plm_texture_image_free(&back);
+    }
+    for (int k = 0; k < 2; ++k)
+        remove(written[k]);
+    remove("texture_rt_dir/pigment.exr");
+    remove("texture_rt_dir/pigment.png");
+    remove("texture_rt_dir");
     plm_error err = {{0}};
     assert_int_equal(plm_texture_write("texture_rt.jpg", &f.texture, &err), PLM_ERR_INVALID);
     assert_non_null(strstr(err.message, ".exr or .png"));
@@ -390,6 +575,8 @@ int main(void)
         cmocka_unit_test(splits_and_the_fluffy_base),
         cmocka_unit_test(rachis_region_has_the_rachis_width),
         cmocka_unit_test(the_vane_mesh_covers_every_vane_texel),
+        cmocka_unit_test(barb_coordinate_is_constant_along_traced_barbs),
+        cmocka_unit_test(barb_coordinate_period_is_the_barb_density),
         cmocka_unit_test(files_round_trip_and_runs_repeat),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -27,7 +27,7 @@ plm_result plm_feather_generate(const plm_species *species, const plm_feather_op
     if (rc == PLM_OK && !opt.no_meshes)
         rc = plm_rachis_mesh(&out->outline, level > 1 ? level - 1 : 1, &out->rachis, err);
     if (rc == PLM_OK && !opt.no_textures)
-        rc = plm_texture_author(&out->outline, &species->pigment, tw, th, &out->texture,
+        rc = plm_texture_author(&out->outline, &species->pigment, tw, th, &out->texture, &out->barb,
                                 opt.no_pigment ? NULL : &out->pigment, err);
     if (rc != PLM_OK)
         plm_feather_free(out);
@@ -39,6 +39,7 @@ void plm_feather_free(plm_feather *f)
     plm_mesh_free(&f->vane);
     plm_mesh_free(&f->rachis);
     plm_texture_image_free(&f->texture);
+    plm_texture_image_free(&f->barb);
     plm_texture_image_free(&f->pigment);
 }
 
@@ -77,9 +78,13 @@ plm_result plm_feather_write_textures(const plm_feather *f, const char *dir, con
     plm_feather_files def = {0};
     if (!files)
         files = &def;
+    plm_image texture = {0};
     plm_result rc = plm_make_dirs(dir, err);
+    if (rc == PLM_OK && f->texture.pixels)
+        rc = plm_texture_with_barb(&f->texture, &f->barb, &texture, err);
     if (rc == PLM_OK)
-        rc = write_image_pair(dir, "texture", &f->texture, files, err);
+        rc = write_image_pair(dir, "texture", &texture, files, err);
+    plm_texture_image_free(&texture);
     if (rc == PLM_OK)
         rc = write_image_pair(dir, "pigment", &f->pigment, files, err);
     return rc;

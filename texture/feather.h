@@ -34,6 +34,7 @@ typedef struct plm_feather {
     plm_outline outline;
     plm_mesh vane, rachis;
     plm_image texture; /* the 3-channel feather texture (texture/texture.h) */
+    plm_image barb;    /* its barb coordinate (1 channel); files carry it as a 4th channel */
     plm_image pigment; /* 3 pigment channels, or empty */
 } plm_feather;
 

@@ -59,6 +59,29 @@ int plm_preview_trace_barb(const plm_feather *f, int side, double y, double step
     return n;
 }
 
+void plm_preview_barb_coordinate(const plm_feather *f, vec2 centre, double span, int w, int h, float *rgb)
+{
+    static const float rachis_rgb[3] = {0.55f, 0.65f, 0.8f};
+    const plm_image *b = &f->barb;
+    double mm_per_pixel = span / fmax(w, h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            double x = centre.x + (i + 0.5 - 0.5 * w) * mm_per_pixel, y = centre.y - (j + 0.5 - 0.5 * h) * mm_per_pixel;
+            vec2 uv = plm_outline_uv(&f->outline, x, y);
+            float *c = rgb + 3 * ((size_t)j * w + i);
+            plm_flat_region r = uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0
+                                    ? PLM_FLAT_BACKGROUND
+                                    : plm_texture_region_of(texel(&f->texture, uv)[2]);
+            if (r == PLM_FLAT_VANE) {
+                /* The nearest texel, as the contract asks: the value jumps at every barb. */
+                int ti = (int)plm_clamp(floor(uv.x * b->width), 0, b->width - 1);
+                int tj = (int)plm_clamp(floor((1.0 - uv.y) * b->height), 0, b->height - 1);
+                c[0] = c[1] = c[2] = b->pixels[(size_t)tj * b->width + ti];
+            } else
+                memcpy(c, r == PLM_FLAT_RACHIS ? rachis_rgb : background_rgb, 3 * sizeof(float));
+        }
+}
+
 /* A hue wheel (HSV with full saturation) for the barb angle. */
 static void hue(double angle, float *c)
 {

@@ -17,6 +17,13 @@ void plm_preview_shape(const plm_feather *f, double yaw, double pitch, int w, in
  * directions (second-order Runge-Kutta) and drawn in black. */
 void plm_preview_texture(const plm_feather *f, double barb_step, int w, int h, float *rgb);
 
+/* A close-up of the barb coordinate (docs/generating.md): a square of `span`
+ * mm of the flat feather centred on `centre` (flat mm), each pixel the
+ * nearest texel's fractional part as grey (0 black to 1 white) on the vane,
+ * the rachis pale blue, background dark. Barbs show as stripes, one ramp per
+ * barb, at the species' angle. */
+void plm_preview_barb_coordinate(const plm_feather *f, vec2 centre, double span, int w, int h, float *rgb);
+
 /* Traces the barb leaving the rachis edge at flat height y on one side
  * through the feather texture's directions (midpoint steps of `step` in uv
  * units), writing up to max_points uv points; returns how many. */

@@ -57,32 +57,38 @@ static void pigment_texel(const plm_outline *o, const plm_pigment *pg, const plm
     out[PLM_PIGMENT_BARB] = cache->value;
 }
 
-static plm_result alloc_image(plm_image *img, int width, int height, plm_error *err)
+static plm_result alloc_image(plm_image *img, int width, int height, int channels, plm_error *err)
 {
     img->width = width;
     img->height = height;
-    img->channels = 3;
-    img->pixels = malloc(sizeof(float) * 3 * (size_t)width * (size_t)height);
+    img->channels = channels;
+    img->pixels = malloc(sizeof(float) * (size_t)channels * (size_t)width * (size_t)height);
     if (!img->pixels)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d texture", width, height);
     return PLM_OK;
 }
 
 plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int width, int height,
-                              plm_image *feather, plm_image *pigment, plm_error *err)
+                              plm_image *feather, plm_image *barb, plm_image *pigment, plm_error *err)
 {
     memset(feather, 0, sizeof *feather);
+    memset(barb, 0, sizeof *barb);
     if (pigment)
         memset(pigment, 0, sizeof *pigment);
     if (width < 8 || height < 8 || width > 16384 || height > 16384)
         return plm_fail(err, PLM_ERR_INVALID, "texture size %dx%d is out of range [8, 16384]", width, height);
-    plm_result rc = alloc_image(feather, width, height, err);
+    plm_result rc = alloc_image(feather, width, height, 3, err);
+    if (rc == PLM_OK)
+        rc = alloc_image(barb, width, height, 1, err);
     if (rc == PLM_OK && pigment)
-        rc = alloc_image(pigment, width, height, err);
+        rc = alloc_image(pigment, width, height, 3, err);
     if (rc != PLM_OK) {
         plm_texture_image_free(feather);
+        plm_texture_image_free(barb);
         return rc;
     }
+    /* psi in mm times barbs per mm along the rachis: one period per barb. */
+    double barbs_per_mm = o->shape.barb_density / 10.0;
     /* A flat direction (dx, dy) in mm becomes (dx / 2U, dy / Lv) in uv units. */
     double su = 1.0 / (2.0 * o->half_extent), sv = 1.0 / o->vane_length;
     barb_cache cache = {INT64_MIN, -1, 0.0f};
@@ -99,6 +105,7 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
             vec2 d = v2(dx * inv, dy * inv);
             if (!isfinite(d.x) || !isfinite(d.y)) {
                 plm_texture_image_free(feather);
+                plm_texture_image_free(barb);
                 if (pigment)
                     plm_texture_image_free(pigment);
                 return plm_fail(err, PLM_ERR_INTERNAL, "texture: non-finite barb direction at texel (%d, %d)", i,
@@ -108,6 +115,7 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
             px[PLM_FTEX_COS] = plm_ftex_encode_component(d.x);
             px[PLM_FTEX_SIN] = plm_ftex_encode_component(d.y);
             px[PLM_FTEX_REGION] = plm_ftex_encode_region((plm_region)s.region);
+            barb->pixels[(size_t)j * width + i] = plm_ftex_encode_barb((s.barb_origin - o->vane_base) * barbs_per_mm);
             if (pigment)
                 pigment_texel(o, pg, &s, p.x >= 0.0, &cache, pigment->pixels + 3 * ((size_t)j * width + i));
         }
@@ -132,6 +140,19 @@ plm_result plm_texture_write(const char *path, const plm_image *img, plm_error *
     plm_result rc = plm_image_write(path, img->width, img->height, img->channels, PLM_PIXEL_UINT16, words, err);
     free(words);
     return rc;
+}
+
+plm_result plm_texture_with_barb(const plm_image *feather, const plm_image *barb, plm_image *out, plm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (alloc_image(out, feather->width, feather->height, PLM_FTEX_CHANNELS_WITH_BARB, err) != PLM_OK)
+        return PLM_ERR_NO_MEMORY;
+    for (size_t i = 0; i < (size_t)feather->width * feather->height; ++i) {
+        memcpy(out->pixels + PLM_FTEX_CHANNELS_WITH_BARB * i, feather->pixels + PLM_FTEX_CHANNELS * i,
+               PLM_FTEX_CHANNELS * sizeof(float));
+        out->pixels[PLM_FTEX_CHANNELS_WITH_BARB * i + PLM_FTEX_BARB] = barb->pixels[i];
+    }
+    return PLM_OK;
 }
 
 plm_flat_region plm_texture_region_of(float channel2)

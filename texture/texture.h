@@ -14,9 +14,15 @@
 
 #define PLM_TEXTURE_DEFAULT_SIZE 1024
 
-/* Allocates and fills `feather` (and `pigment` if not NULL) at width x height. */
+/* Allocates and fills `feather` (the contract's first 3 channels), `barb`
+ * (1 channel: the barb coordinate's fraction, PLM_FTEX_BARB) and `pigment`
+ * (if not NULL) at width x height. */
 plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int width, int height,
-                              plm_image *feather, plm_image *pigment, plm_error *err);
+                              plm_image *feather, plm_image *barb, plm_image *pigment, plm_error *err);
+
+/* The feather texture as files store it: feather's 3 channels and barb's one
+ * interleaved into PLM_FTEX_CHANNELS_WITH_BARB channels (allocated in out). */
+plm_result plm_texture_with_barb(const plm_image *feather, const plm_image *barb, plm_image *out, plm_error *err);
 
 /* Writes an image as EXR (float) or 16-bit PNG, chosen by the extension. */
 plm_result plm_texture_write(const char *path, const plm_image *img, plm_error *err);
