@@ -56,7 +56,9 @@ for f in texture.exr pigment.exr; do
 done
 
 # Textures alone, one format.
-expect_ok "texture command" "$PLUMAGE" texture --species "$SPECIES/remex_pigeon.json" -o tex --texture-size 64 --format png
+expect_ok "texture command" "$PLUMAGE" texture --species "$SPECIES/remex_pigeon.json" -o tex --texture-size 64 --format png \
+    --barb-preview barbs.png
+expect_image "barb coordinate close-up" 512 512 barbs.png
 expect_image "texture command texture.png" 64 64 tex/texture.png
 IMAGE_MIN_MEAN=0 expect_image "texture command pigment.png" 64 64 tex/pigment.png
 if [ ! -e tex/texture.exr ] && [ ! -e tex/vane.ply ]; then

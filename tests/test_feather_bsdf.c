@@ -71,6 +71,36 @@ static void set_texel(float *px, int i, double angle, float region)
 /* The texture contract: region by nearest texel (v = 0 is the bottom row),
  * directions filtered only among texels of the same region, and averaged as
  * vectors so angles near +-180 degrees do not wrap to 0. */
+/* A texture file with the barb coordinate as a fourth channel (what plumage
+ * writes now) reads as the same three channels: in PNG the fourth is stored
+ * as RGBA's alpha and must not scale the others (even where it is 0). */
+static void four_channel_textures_read_as_three(void **state)
+{
+    (void)state;
+    const float texels[2][PLM_FTEX_CHANNELS_WITH_BARB] = {{0.2f, 0.9f, 1.0f, 0.0f}, {0.7f, 0.4f, 0.5f, 0.03f}};
+    const char *files[2] = {"ftex4_rt.exr", "ftex4_rt.png"};
+    for (int k = 0; k < 2; ++k) {
+        plm_error err;
+        if (k == 0)
+            assert_int_equal(plm_image_write(files[k], 2, 1, 4, PLM_PIXEL_FLOAT, texels, &err), PLM_OK);
+        else {
+            uint16_t words[8];
+            for (int c = 0; c < 8; ++c)
+                words[c] = (uint16_t)lrint(65535.0 * texels[c / 4][c % 4]);
+            assert_int_equal(plm_image_write(files[k], 2, 1, 4, PLM_PIXEL_UINT16, words, &err), PLM_OK);
+        }
+        plm_feather_texture t;
+        assert_int_equal(plm_feather_texture_read(files[k], &t, &err), PLM_OK);
+        for (int i = 0; i < 2; ++i)
+            for (int c = 0; c < PLM_FTEX_CHANNELS; ++c)
+                assert_double_near(t.pixels[PLM_FTEX_CHANNELS * i + c], texels[i][c], 0.5 / 65535.0 + 1e-7);
+        assert_int_equal(plm_feather_texture_region(&t, v2(0.25, 0.5)), PLM_REGION_VANE);
+        assert_int_equal(plm_feather_texture_region(&t, v2(0.75, 0.5)), PLM_REGION_RACHIS);
+        plm_feather_texture_free(&t);
+        remove(files[k]);
+    }
+}
+
 static void texture_lookups_keep_regions_and_angles(void **state)
 {
     (void)state;
@@ -311,6 +341,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(barb_frame_follows_texture_and_tip),
         cmocka_unit_test(texture_lookups_keep_regions_and_angles),
+        cmocka_unit_test(four_channel_textures_read_as_three),
         cmocka_unit_test(pigment_tints_vane_texels),
         cmocka_unit_test(white_furnace_of_the_bsdf),
         cmocka_unit_test(sampling_matches_pdf),
