@@ -102,6 +102,7 @@ int bench_masking(int argc, char **argv)
     plm_feather_params_default(&c->feather);
     c->feather.masking.barbule_length = 3.0;
     c->feather.masking.barbule_inclination = plm_radians(45.0);
+    plm_feather_params_prepare_masking(&c->feather);
     c->barb.y = v3_normalize(v3(0.3, 0.9, 0.2));
     c->barb.z = v3_normalize(v3_cross(c->barb.y, v3(1.0, 0.0, 0.0)));
     c->barb.x = v3_cross(c->barb.y, c->barb.z);

@@ -1,5 +1,8 @@
 #include "render/feather_bsdf.h"
 
+#include <assert.h>
+#include <string.h>
+
 void plm_feather_params_default(plm_feather_params *p)
 {
     plm_fiber_params_default(&p->barb);
@@ -7,8 +10,18 @@ void plm_feather_params_default(plm_feather_params *p)
     p->barb.sigma_a = p->barbule.sigma_a = rgb_make(0.133, 1.967, 2.1); /* paper Fig. 7 */
     p->barb.medulla_a = p->barb.medulla_b = 0.6;
     plm_masking_params_default(&p->masking);
+    plm_feather_params_prepare_masking(p);
     p->bcsdf = PLM_BCSDF_TABULATED;
     p->table[0] = p->table[1] = NULL;
+}
+
+void plm_feather_params_prepare_masking(plm_feather_params *p) { plm_masking_prepare(&p->masking, &p->masking_model); }
+
+/* The prepared masking must be the material's own: a stale one would mask
+ * with other parameters than the scene's. */
+static inline int masking_is_prepared(const plm_feather_params *p)
+{
+    return memcmp(&p->masking, &p->masking_model.params, sizeof p->masking) == 0;
 }
 
 plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err)
@@ -72,8 +85,9 @@ int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, fram
 
 double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w)
 {
+    assert(masking_is_prepared(p));
     plm_masking m;
-    plm_masking_eval(&p->masking, frame_to_local(barb, w), &m);
+    plm_masking_eval_prepared(&p->masking_model, frame_to_local(barb, w), &m);
     return m.w_transmission;
 }
 
@@ -82,11 +96,10 @@ void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo
 {
     out->params = p;
     out->tint = tint;
+    assert(masking_is_prepared(p));
     plm_masking *m = &out->masking;
-    plm_masking_eval(&p->masking, frame_to_local(barb, wo), m);
-    plm_barbule_frame proximal, distal;
-    plm_masking_barbule_frames(&p->masking, &proximal, &distal);
-    const plm_barbule_frame *bb[2] = {&proximal, &distal};
+    plm_masking_eval_prepared(&p->masking_model, frame_to_local(barb, wo), m);
+    const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
     out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
     for (int k = 0; k < 2; ++k) {
         frame *f = &out->fiber_frame[1 + k];

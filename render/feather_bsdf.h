@@ -28,6 +28,9 @@ typedef struct plm_feather_params {
     plm_fiber_params barb;    /* in the barb frame: axis t, e2 = b, e3 = n */
     plm_fiber_params barbule; /* in each barbule set's frame: axis, e2 = r1, e3 = r2 (docs/masking.md) */
     plm_masking_params masking;
+    /* The masking's view-independent part (frames, trigonometry), derived
+     * from `masking` once per material by plm_feather_params_prepare_masking. */
+    plm_masking_model masking_model;
     plm_bcsdf_kind bcsdf;
     /* Tables of the barb and the barbule fiber, owned; NULL until
      * plm_feather_params_build_tables (the stochastic estimator serves until then). */
@@ -39,6 +42,9 @@ typedef struct plm_feather_params {
  * (no medulla) with the same absorption; masking: its defaults. */
 void plm_feather_params_default(plm_feather_params *p);
 plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err);
+/* Derives masking_model from masking: call it after changing `masking`
+ * (plm_feather_params_default and plm_world_build do). */
+void plm_feather_params_prepare_masking(plm_feather_params *p);
 /* Gets the fiber tables if the estimator is tabulated (a no-op if they are
  * there); plm_world_build calls it for every feather material. */
 plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err);

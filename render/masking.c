@@ -383,8 +383,7 @@ void plm_masking_barbule_frames(const plm_masking_params *p, plm_barbule_frame *
 
 void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model)
 {
-    model->barbule_eccentricity = p->barbule_eccentricity;
-    model->barbule_separation = p->barbule_separation;
+    model->params = *p;
     plm_masking_barbule_frames(p, &model->proximal, &model->distal);
     model->barb = barb_geometry(p->barb_eccentricity, p->barbule_length, p->barbule_inclination);
 }
@@ -392,10 +391,9 @@ void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model)
 void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo, plm_masking *out)
 {
     plm_barbule_masking mp, md;
-    plm_masking_barbule(model->barbule_eccentricity, model->barbule_separation,
-                        v2(v3_dot(wo, model->proximal.e2), v3_dot(wo, model->proximal.e3)), &mp);
-    plm_masking_barbule(model->barbule_eccentricity, model->barbule_separation,
-                        v2(v3_dot(wo, model->distal.e2), v3_dot(wo, model->distal.e3)), &md);
+    double e_bb = model->params.barbule_eccentricity, delta_bb = model->params.barbule_separation;
+    plm_masking_barbule(e_bb, delta_bb, v2(v3_dot(wo, model->proximal.e2), v3_dot(wo, model->proximal.e3)), &mp);
+    plm_masking_barbule(e_bb, delta_bb, v2(v3_dot(wo, model->distal.e2), v3_dot(wo, model->distal.e3)), &md);
     plm_barb_masking mb;
     barb_eval(&model->barb, mp.transmittance, md.transmittance, v2(wo.x, wo.y), &mb);
     out->w_barb = mb.w_barb;

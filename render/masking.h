@@ -80,7 +80,7 @@ typedef struct plm_barbule_frame {
     vec3 axis, e2, e3;
 } plm_barbule_frame;
 typedef struct plm_masking_model {
-    double barbule_eccentricity, barbule_separation;
+    plm_masking_params params; /* what it was prepared from */
     plm_barbule_frame proximal, distal;
     plm_barb_geometry barb;
 } plm_masking_model;

@@ -298,8 +298,11 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
     w->epsilon = 1e-5 * fmax(1.0, extent); /* well above float rounding at that magnitude */
     for (int i = 0; i < scene->material_count; ++i) {
         w->transmissive |= material_transmits(&scene->materials[i]);
-        /* The feathers' fiber tables (built once, cached on disk; docs/fiber.md). */
+        /* The feathers' fiber tables (built once, cached on disk; docs/fiber.md)
+         * and prepared masking (docs/masking.md). */
         plm_feather_params *f = scene->materials[i].feather;
+        if (f)
+            plm_feather_params_prepare_masking(f);
         if (f && (rc = plm_feather_params_build_tables(f, NULL, err)) != PLM_OK) {
             plm_world_free(w);
             return rc;

@@ -28,8 +28,9 @@ static plm_feather_params random_params(plm_rng *rng, int clear)
         p.masking.barbule_eccentricity = uniform(rng, 1.0, 3.0);
         p.masking.barbule_length = uniform(rng, 1.0, 4.0);
         p.masking.barbule_separation = uniform(rng, 0.1, 3.0);
-        p.masking.barbule_inclination = plm_radians(uniform(rng, 0.0, 60.0));
+        p.masking.barbule_inclination = plm_radians(uniform(rng, -60.0, 60.0));
         p.masking.barbule_rotation = plm_radians(uniform(rng, 30.0, 60.0));
+        plm_feather_params_prepare_masking(&p);
         plm_fiber_params *f[2] = {&p.barb, &p.barbule};
         for (int k = 0; k < 2; ++k) {
             f[k]->eccentricity = uniform(rng, 1.0, 2.0);

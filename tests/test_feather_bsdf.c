@@ -38,6 +38,7 @@ static plm_feather_params clear_params(int variant)
         p.barb.medulla_ca = -0.1, p.barb.medulla_cb = 0.1;
         p.barb.beta_m = p.barbule.beta_m = 0.3;
     }
+    plm_feather_params_prepare_masking(&p);
     plm_error err;
     assert_int_equal(plm_feather_params_validate(&p, &err), PLM_OK);
     return p;
@@ -270,6 +271,49 @@ static void prepared_bsdf_is_reproducible_by_seed(void **state)
 
 /* ---------- the feather in scenes ---------- */
 
+/* The BSDF's masking and barbule fiber frames are the masking model's, in
+ * world space through the barb frame: each barbule axis lies in its row's
+ * plane through t, tilted about t by theta_bb (also for falling rows). */
+static void barbule_fibers_lie_in_the_tilted_rows(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 21, 0);
+    for (int i = 0; i < 200; ++i) {
+        plm_feather_params p;
+        plm_feather_params_default(&p);
+        p.masking.barbule_inclination = plm_radians(-80.0 + 160.0 * plm_rng_uniform(&rng));
+        p.masking.barbule_rotation = plm_radians(5.0 + 80.0 * plm_rng_uniform(&rng));
+        p.masking.barbule_length = 0.5 + 3.0 * plm_rng_uniform(&rng);
+        plm_feather_params_prepare_masking(&p);
+        frame barb;
+        barb.y = v3_normalize(v3(plm_rng_uniform(&rng) - 0.5, 1.0, plm_rng_uniform(&rng) - 0.5));
+        barb.z = v3_normalize(v3_cross(barb.y, v3(1.0, 0.2, -0.3)));
+        barb.x = v3_cross(barb.y, barb.z);
+        vec3 wo = v3_normalize(v3(plm_rng_uniform(&rng) - 0.5, plm_rng_uniform(&rng) - 0.3, plm_rng_uniform(&rng) - 0.5));
+        plm_feather_bsdf f;
+        plm_feather_prepare(&p, &barb, wo, rgb_gray(1.0), &rng, &f);
+        plm_masking m;
+        plm_masking_eval(&p.masking, frame_to_local(&barb, wo), &m);
+        assert_double_near(f.masking.w_barb, m.w_barb, 1e-12);
+        assert_double_near(f.masking.w_distal, m.w_distal, 1e-12);
+        assert_double_near(f.masking.w_transmission, m.w_transmission, 1e-12);
+        assert_double_near(plm_feather_transmission(&p, &barb, wo), m.w_transmission, 1e-12);
+        double st = sin(p.masking.barbule_inclination), ct = cos(p.masking.barbule_inclination);
+        for (int k = 0; k < 2; ++k) {
+            const frame *fb = &f.fiber_frame[k == 0 ? PLM_FEATHER_PROXIMAL : PLM_FEATHER_DISTAL];
+            double side = k == 0 ? -1.0 : 1.0;
+            vec3 across = v3_add(v3_scale(barb.x, side * ct), v3_scale(barb.y, st)); /* rises at theta across b */
+            vec3 row_normal = v3_cross(barb.z, across);
+            assert_double_near(v3_dot(fb->z, row_normal), 0.0, 1e-12); /* the axis lies in the row */
+            assert_double_near(v3_dot(fb->x, row_normal), 0.0, 1e-12); /* so does r1 */
+            assert_double_near(v3_dot(fb->z, barb.z), cos(p.masking.barbule_rotation), 1e-12);
+            assert_true(v3_dot(fb->z, across) > 0.0);
+            assert_true(v3_dot(fb->y, barb.y) > 0.0); /* r2 on the dorsal side */
+        }
+    }
+}
+
 static void add_feather_sheet(plm_scene *s, const plm_feather_params *p, double curl, plm_xform x)
 {
     plm_mesh mesh;
@@ -346,6 +390,7 @@ int main(void)
         cmocka_unit_test(white_furnace_of_the_bsdf),
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(prepared_bsdf_is_reproducible_by_seed),
+        cmocka_unit_test(barbule_fibers_lie_in_the_tilted_rows),
         cmocka_unit_test(furnace_scene),
         cmocka_unit_test(feather_shadows_agree_with_stochastic_passing),
     };

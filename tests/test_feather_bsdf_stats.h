@@ -24,6 +24,7 @@ static plm_material feather_material(const plm_feather_params *p, double a)
     m.reflectance = rgb_gray(0.8);
     m.feather = malloc(sizeof *m.feather);
     *m.feather = *p;
+    plm_feather_params_prepare_masking(m.feather);
     float *px = malloc(sizeof(float) * 4 * 4 * 3);
     for (int i = 0; i < 16; ++i)
         px[3 * i] = (float)((cos(a) + 1) / 2), px[3 * i + 1] = (float)((sin(a) + 1) / 2), px[3 * i + 2] = 1.0f;
