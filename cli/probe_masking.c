@@ -141,69 +141,162 @@ static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_maski
 
 /* ---------------------------------------------------------------- pictures */
 
-/* Fig. 9 of the paper: the weights of barb, proximal and distal barbules as
- * blue, green and red over the view's azimuth (horizontal, 0 to 360 degrees
- * from b toward t) and polar angle from n (vertical, 0 at the top to 180 at
- * the bottom: the lower half shows views from below the vane). Each parameter
- * set is one row: the analytic masking left, the brute force right. */
+/* Fig. 9 of the paper, labelled: the weights of barb, proximal and distal
+ * barbules as blue, green and red (black where light passes) over the view's
+ * azimuth (horizontal, 0 to 360 degrees from b toward t) and its angle from n
+ * (vertical, 0 at the top to 180 at the bottom: the lower half shows views
+ * from below the vane). Each parameter set is one row: the analytic masking
+ * left, rays against explicit 3D geometry right. Sizes are pixels. */
+enum {
+    FONT = 13, FONT_SMALL = 11,
+    LEFT = 46, GAP = 30, RIGHT = 16, MIN_WIDTH = 600, /* panels' margins; the labels need MIN_WIDTH */
+    TITLE_H = 52, SET_H = 24, TICKS_H = 22, FOOT_H = 92
+};
+
+static const float ink[3] = {0.0f, 0.0f, 0.0f};
+
+/* About the width of text in DejaVu Sans at `size` px, to centre tick labels. */
+static int text_width(const char *text, int size)
+{
+    int glyphs = 0;
+    for (const char *c = text; *c; ++c)
+        glyphs += ((unsigned char)*c & 0xc0) != 0x80; /* UTF-8 lead bytes */
+    return (int)(0.6 * size * glyphs);
+}
+
+static void fill(plm_image *img, int x0, int y0, int w, int h, const float c[3])
+{
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x)
+            for (int k = 0; k < 3; ++k)
+                img->pixels[3 * ((size_t)y * (size_t)img->width + (size_t)x) + k] = c[k];
+}
+
+/* Ticks and tick labels every 90 degrees of azimuth below the panel at
+ * (x0, y0), and every 45 degrees of polar angle to its left. */
+static plm_result panel_axes(plm_image *img, int x0, int y0, int w, int h, int polar_labels, plm_error *err)
+{
+    static const char *const azimuth[] = {"0", "90", "180", "270", "360"};
+    static const char *const polar[] = {"0", "45", "90", "135", "180"};
+    plm_result rc = PLM_OK;
+    for (int i = 0; i <= 4 && rc == PLM_OK; ++i) {
+        int x = x0 + (w - 1) * i / 4, y = y0 + (h - 1) * i / 4;
+        fill(img, x, y0 + h, 1, 4, ink);
+        rc = plm_image_draw_text(img, x - text_width(azimuth[i], FONT_SMALL) / 2, y0 + h + 5 + FONT_SMALL,
+                                 FONT_SMALL, azimuth[i], ink, err);
+        if (rc == PLM_OK && polar_labels) {
+            fill(img, x0 - 4, y, 4, 1, ink);
+            rc = plm_image_draw_text(img, x0 - 7 - text_width(polar[i], FONT_SMALL), y + FONT_SMALL / 3, FONT_SMALL,
+                                     polar[i], ink, err);
+        }
+    }
+    return rc;
+}
+
+/* Title, column headings, each set's parameters, the axes and the legend. */
+static plm_result figure_labels(plm_image *img, const plm_masking_params *sets, int n_sets, int width, int height,
+                                int samples, plm_error *err)
+{
+    char line[256];
+    int right_x = LEFT + width + GAP;
+    plm_result rc = plm_image_draw_text(img, LEFT, 20, FONT + 2, "Masking weights over the view direction", ink, err);
+    if (rc == PLM_OK)
+        rc = plm_image_draw_text(img, LEFT, TITLE_H - 10, FONT, "analytic", ink, err);
+    if (rc == PLM_OK)
+        rc = plm_image_draw_text(img, right_x, TITLE_H - 10, FONT, "rays, explicit 3D geometry", ink, err);
+    for (int k = 0; k < n_sets && rc == PLM_OK; ++k) {
+        const plm_masking_params *p = &sets[k];
+        int y0 = TITLE_H + k * (SET_H + height + TICKS_H);
+        int n = n_sets > 1 ? snprintf(line, sizeof line, "set %d:  ", k + 1) : 0;
+        snprintf(line + n, sizeof line - (size_t)n, "e_b %g,  e_bb %g,  l_bb %g,  delta_bb %g,  phi_bb %g deg,  theta_bb %g deg",
+                 p->barb_eccentricity, p->barbule_eccentricity, p->barbule_length, p->barbule_separation,
+                 plm_degrees(p->barbule_rotation), plm_degrees(p->barbule_inclination));
+        rc = plm_image_draw_text(img, LEFT, y0 + SET_H - 7, FONT, line, ink, err);
+        for (int side = 0; side < 2 && rc == PLM_OK; ++side)
+            rc = panel_axes(img, side ? right_x : LEFT, y0 + SET_H, width, height, side == 0, err);
+    }
+    int foot = TITLE_H + n_sets * (SET_H + height + TICKS_H);
+    snprintf(line, sizeof line, "horizontal: view azimuth in degrees from b (0) toward t (90);  %d rays per view", samples);
+    if (rc == PLM_OK)
+        rc = plm_image_draw_text(img, LEFT, foot + 16, FONT, line, ink, err);
+    if (rc == PLM_OK)
+        rc = plm_image_draw_text(img, LEFT, foot + 34, FONT,
+                                 "vertical: view angle in degrees from n (0, above the vane) to -n (180, below)", ink, err);
+    /* The legend: the weights are added as colours; black is what passes. */
+    static const struct { float c[3]; const char *name; } keys[] = {
+        {{1, 0, 0}, "distal barbules"}, {{0, 1, 0}, "proximal barbules"}, {{0, 0, 1}, "barb"},
+        {{0, 0, 0}, "transmission"}};
+    int x = LEFT;
+    for (int i = 0; i < 4 && rc == PLM_OK; ++i) {
+        fill(img, x, foot + 52, 14, 14, keys[i].c);
+        rc = plm_image_draw_text(img, x + 20, foot + 64, FONT, keys[i].name, ink, err);
+        x += 20 + text_width(keys[i].name, FONT) + 22;
+    }
+    return rc;
+}
+
+/* Fills one set's two panels at (x0, y0) and (x1, y0): analytic and rays. */
+static int figure_panels(plm_image *img, const plm_masking_params *p, int x0, int x1, int y0, int width, int height,
+                         int samples, uint64_t seed, int set, int n_sets)
+{
+    plm_error err;
+    plm_masking_reference *ref = NULL;
+    if (plm_masking_reference_create(p, NULL, &ref, &err) != PLM_OK) {
+        fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+        return 1;
+    }
+    int status = 0;
+    for (int row = 0; row < height && status == 0; ++row) {
+        double polar = PLM_PI * (row + 0.5) / height;
+        for (int col = 0; col < width; ++col) {
+            double azimuth = PLM_TWO_PI * (col + 0.5) / width;
+            vec3 wo = v3(sin(polar) * cos(azimuth), cos(polar), sin(polar) * sin(azimuth));
+            plm_masking m[2];
+            plm_masking_eval(p, wo, &m[0]);
+            if (plm_masking_reference_eval(ref, wo, (unsigned)samples, seed + (uint64_t)(row * width + col), &m[1],
+                                           &err) != PLM_OK) {
+                fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+                status = 1;
+                break;
+            }
+            for (int side = 0; side < 2; ++side) {
+                float c[3] = {(float)m[side].w_distal, (float)m[side].w_proximal, (float)m[side].w_barb};
+                fill(img, (side ? x1 : x0) + col, y0 + row, 1, 1, c);
+            }
+        }
+        if ((row + 1) % 10 == 0 || row + 1 == height)
+            fprintf(stderr, "\rfigure: parameter set %d of %d, row %d of %d", set + 1, n_sets, row + 1, height);
+    }
+    fprintf(stderr, "\n");
+    plm_masking_reference_destroy(ref);
+    return status;
+}
+
 static int write_figure(const char *path, const plm_masking_params *sets, int n_sets, int width, int samples,
                         uint64_t seed)
 {
-    int height = width / 2, gap = 4;
-    int img_w = 2 * width + gap, img_h = n_sets * height + (n_sets - 1) * gap;
-    float *rgb = calloc((size_t)img_w * (size_t)img_h * 3, sizeof(float));
-    if (!rgb) {
+    int height = width / 2;
+    int img_w = LEFT + 2 * width + GAP + RIGHT;
+    img_w = img_w < MIN_WIDTH ? MIN_WIDTH : img_w;
+    int img_h = TITLE_H + n_sets * (SET_H + height + TICKS_H) + FOOT_H;
+    plm_image img = {img_w, img_h, 3, calloc((size_t)img_w * (size_t)img_h * 3, sizeof(float))};
+    if (!img.pixels) {
         fprintf(stderr, "error: out of memory for the figure\n");
         return 1;
     }
-    for (size_t i = 0; i < (size_t)img_w * (size_t)img_h * 3; ++i)
-        rgb[i] = 1.0f; /* white separators */
+    const float white[3] = {1.0f, 1.0f, 1.0f};
+    fill(&img, 0, 0, img_w, img_h, white);
     int status = 0;
-    for (int k = 0; k < n_sets && status == 0; ++k) {
-        plm_error err;
-        plm_masking_reference *ref = NULL;
-        if (plm_masking_reference_create(&sets[k], NULL, &ref, &err) != PLM_OK) {
-            fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
-            status = 1;
-            break;
-        }
-        for (int row = 0; row < height; ++row) {
-            double polar = PLM_PI * (row + 0.5) / height;
-            for (int col = 0; col < width; ++col) {
-                double azimuth = PLM_TWO_PI * (col + 0.5) / width;
-                vec3 wo = v3(sin(polar) * cos(azimuth), cos(polar), sin(polar) * sin(azimuth));
-                plm_masking m[2];
-                plm_masking_eval(&sets[k], wo, &m[0]);
-                if (plm_masking_reference_eval(ref, wo, (unsigned)samples, seed + (uint64_t)(row * width + col), &m[1],
-                                               &err) != PLM_OK) {
-                    fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
-                    status = 1;
-                    break;
-                }
-                for (int side = 0; side < 2; ++side) {
-                    size_t x = (size_t)(side * (width + gap) + col), y = (size_t)(k * (height + gap) + row);
-                    float *px = rgb + 3 * (y * (size_t)img_w + x);
-                    px[0] = (float)m[side].w_distal;
-                    px[1] = (float)m[side].w_proximal;
-                    px[2] = (float)m[side].w_barb;
-                }
-            }
-            if ((row + 1) % 10 == 0 || row + 1 == height)
-                fprintf(stderr, "\rfigure: parameter set %d of %d, row %d of %d", k + 1, n_sets, row + 1, height);
-            if (status)
-                break;
-        }
-        fprintf(stderr, "\n");
-        plm_masking_reference_destroy(ref);
+    for (int k = 0; k < n_sets && status == 0; ++k)
+        status = figure_panels(&img, &sets[k], LEFT, LEFT + width + GAP, TITLE_H + k * (SET_H + height + TICKS_H) + SET_H,
+                               width, height, samples, seed, k, n_sets);
+    plm_error err;
+    if (status == 0 && (figure_labels(&img, sets, n_sets, width, height, samples, &err) != PLM_OK ||
+                        plm_image_write_srgb_png(path, img_w, img_h, img.pixels, 0.0, &err) != PLM_OK)) {
+        fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
+        status = 1;
     }
-    if (status == 0) {
-        plm_error err;
-        if (plm_image_write_srgb_png(path, img_w, img_h, rgb, 0.0, &err) != PLM_OK) {
-            fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
-            status = 1;
-        }
-    }
-    free(rgb);
+    free(img.pixels);
     return status;
 }
 
@@ -227,7 +320,7 @@ static int write_figure9(const char *path, int width, int samples, uint64_t seed
 
 int probe_masking(int argc, char **argv)
 {
-    probe_args a = {1.0, 1.0, 1.0, 1.0, 45.0, 0.0, 0.0, 0.0, LEVEL_FULL, 0, 4096, 1, 180, NULL, NULL};
+    probe_args a = {1.0, 1.0, 1.0, 1.0, 45.0, 0.0, 0.0, 0.0, LEVEL_FULL, 0, 4096, 1, 240, NULL, NULL};
     plm_option opts[OPT_COUNT] = {
         [OPT_BARB_E] = {"--barb-eccentricity", PLM_OPT_DOUBLE, &a.barb_e, 0, 1e-6, 20, NULL, "E",
                         "barb extent along n / along b (default 1)", 0},
@@ -259,7 +352,7 @@ int probe_masking(int argc, char **argv)
         [OPT_FIGURE9] = {"--figure9", PLM_OPT_STRING, &a.figure9, 0, 0, 0, NULL, "FILE.png",
                          "write the paper's Fig. 9: both of its parameter sets (no stdin)", 0},
         [OPT_WIDTH] = {"--width", PLM_OPT_INT, &a.width, 0, 8, 4096, NULL, "PIXELS",
-                       "width of each picture panel; height is half (default 180)", 0},
+                       "width of each picture panel; height is half (default 240)", 0},
     };
     /* The geometry's ranges are the masking table's (render/masking.h), as in scene files. */
     static const struct { int option; const char *field; } from_table[] = {
@@ -279,8 +372,8 @@ int probe_masking(int argc, char **argv)
         "--level barbule: stdin 'dx dy' in a barbule row's cross-section; stdout dx,dy,transmittance,hmin,hmax.\n"
         "--level barb: stdin 'dx dy' in the barb cross-section; stdout dx,dy,w_barb,w_proximal,w_distal,\n"
         "  w_transmission,barb_ranges.\n"
-        "--figure / --figure9 write a PNG instead (barb, proximal, distal weights as blue, green, red over\n"
-        "  view azimuth and polar angle; analytic left, Monte Carlo right)."};
+        "--figure / --figure9 write a labelled PNG instead (barb, proximal, distal weights as blue, green, red\n"
+        "  over view azimuth and polar angle; analytic left, Monte Carlo right)."};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, OPT_COUNT, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;

@@ -58,7 +58,8 @@ plm_result plm_image_write_srgb_png(const char *path, int width, int height, con
  * with a fourth channel the text is composited over as alpha). (x, y) is the left end of
  * the baseline in pixels; size_px the font size in pixels. The font is
  * DejaVu Sans from Debian's fonts-dejavu-core (PLM_IMAGE_FONT); a missing
- * font is an error, never a silent fallback. */
+ * font is an error, never a silent fallback. Keep text to ASCII: OpenImageIO
+ * 2.4 draws other UTF-8 characters (degree sign, Greek) as wrong glyphs. */
 #define PLM_IMAGE_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
 plm_result plm_image_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
                                plm_error *err);
