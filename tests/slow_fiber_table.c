@@ -2,10 +2,12 @@
  * the exact mean over h (tests/fiber_table_stats.h), for the four Fig. 7
  * fibers and random parameter sets: relative L2 per channel over random
  * (wo, wi, h-interval), wi at the lobes and uniform on the sphere.
- * Rotationally symmetric fibers (a circular cortex, no or a centred circular
- * medulla) must be within 1%; for the others the errors are printed (they
- * are larger, see docs/fiber.md: their tables interpolate between phi_o
- * nodes, which blurs caustics that move with the view). */
+ * Every fiber must be within 1% per channel (the estimator's accuracy
+ * requirement). The table is printed whole before the verdict. Today only
+ * most rotationally symmetric fibers meet it: elliptical tables interpolate
+ * between phi_o nodes, which blurs caustics that move with the view (see
+ * docs/fiber.md). So this test carries the ctest label `target`: .ci/run
+ * reports it as a target not yet met instead of failing on it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -43,14 +45,14 @@ static void figure7_fibers(void **state)
     (void)state;
     plm_rng rng;
     plm_rng_seed(&rng, 2024, 7);
+    double worst = 0.0;
     for (int v = 0; v < PLM_FIBER_FIGURE7_VARIANTS; ++v) {
         plm_fiber_params p;
         plm_fiber_params_figure7(&p, v);
         int symmetric;
-        double worst = default_table_error(&p, plm_fiber_figure7_names[v], &rng, &symmetric);
-        if (symmetric)
-            assert_true(worst <= 0.01);
+        worst = fmax(worst, default_table_error(&p, plm_fiber_figure7_names[v], &rng, &symmetric));
     }
+    assert_true(worst <= 0.01);
 }
 
 /* Random fibers; every other one circular (with a centred circular medulla or none). */
@@ -59,6 +61,7 @@ static void random_fibers(void **state)
     (void)state;
     plm_rng rng;
     plm_rng_seed(&rng, 77, 1);
+    double worst = 0.0;
     for (int i = 0; i < 8;) {
         plm_fiber_params p;
         plm_fiber_params_default(&p);
@@ -77,11 +80,10 @@ static void random_fibers(void **state)
         char name[64];
         snprintf(name, sizeof name, "random %d (e %.2f, bn %.1f deg)", i, p.eccentricity, plm_degrees(p.beta_n));
         int symmetric;
-        double worst = default_table_error(&p, name, &rng, &symmetric);
-        if (symmetric)
-            assert_true(worst <= 0.01);
+        worst = fmax(worst, default_table_error(&p, name, &rng, &symmetric));
         ++i;
     }
+    assert_true(worst <= 0.01);
 }
 
 int main(void)
