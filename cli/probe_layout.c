@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "generate/layout.h"
+#include "scene/layout_block.h"
 
 static const char *const kinds[] = {"pelt", "ball", "wing", NULL};
 enum { KIND_PELT, KIND_BALL, KIND_WING };
@@ -120,13 +121,30 @@ int probe_layout(int argc, char **argv)
         {"--variants", PLM_OPT_INT, &a.variants, 1, 0, 64, NULL, "N", "distinct prototypes per species; default 4 (wing 3)", 0},
         {"--seed", PLM_OPT_INT, &a.seed, 1, 0, 2147483647, NULL, "N", "random seed; default 0", 0},
     };
+    /* The ranges are the scene file's layout tables, so a value is refused the same way in both. */
+    static const struct { const char *option; const plm_param_block *block; const char *field; } from_table[] = {
+        {"--count", &plm_pelt_param_block, "count"},
+        {"--density", &plm_pelt_param_block, "density"},
+        {"--overlap", &plm_pelt_param_block, "overlap"},
+        {"--feather-length", &plm_pelt_param_block, "feather_length"},
+        {"--elevation", &plm_pelt_param_block, "elevation"},
+        {"--variants", &plm_pelt_param_block, "variants"},
+        {"--seed", &plm_pelt_param_block, "seed"},
+        {"--span", &plm_wing_param_block, "span"},
+        {"--chord", &plm_wing_param_block, "chord"},
+        {"--sweep", &plm_wing_param_block, "sweep"},
+        {"--fold", &plm_wing_param_block, "fold"}};
+    int n_opts = (int)(sizeof opts / sizeof opts[0]);
+    for (size_t i = 0; i < sizeof from_table / sizeof from_table[0]; ++i)
+        for (int k = 0; k < n_opts; ++k)
+            if (!strcmp(opts[k].name, from_table[i].option))
+                plm_option_range_from(&opts[k], from_table[i].block, from_table[i].field);
     const plm_command_help help = {
         "plumage probe layout [options]",
         "Runs a layout (pelt over a plane, a sphere or a mesh; feather ball; wing) and prints one CSV row per "
         "placed feather: its prototype (species index and variant), wing row and dorsal order, variation (scale, "
         "yaw, lift, tint) and the 3x4 matrix from the feather frame (mm) to layout space. docs/layouts.md "
         "explains the parameters."};
-    int n_opts = (int)(sizeof opts / sizeof opts[0]);
     int rc = plm_parse_options(&help, argc, argv, 1, opts, n_opts, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;

@@ -29,6 +29,8 @@ expect_stderr "wing without secondaries" "secondary" "$PLUMAGE" probe layout --k
     --row "primary=$SPECIES/remex_pigeon.json"
 expect_stderr "fold out of range" "--fold" "$PLUMAGE" probe layout --kind wing --fold 2 \
     --row "primary=$SPECIES/remex_pigeon.json" --row "secondary=$SPECIES/remex_pigeon.json"
+# The options take the scene file's layout ranges (one table per block).
+expect_stderr "overlap range is the pelt table's" "out of range \\[0, 0.95\\]" pelt --overlap 0.96
 expect_stderr "missing surface mesh" "nothing.ply" pelt --surface nothing.ply
 expect_stderr "missing species file" "nothing.json" "$PLUMAGE" probe layout --species nothing.json
 finish
