@@ -75,6 +75,8 @@ static plm_result image_read(const char *path, int *width, int *height, int *cha
                              plm_error *err)
 {
     *pixels = nullptr;
+    if (plm_result rc = plm_image_check_png_chunks(path, err); rc != PLM_OK)
+        return rc;
     // Only the reader of the format the extension names: a file is never
     // offered to every other format's decoder (docs/robustness.md).
     auto in = ImageInput::create(path);

@@ -27,6 +27,13 @@ typedef struct plm_image {
 plm_result plm_image_check_size(const char *what, long long width, long long height, long long channels,
                                 plm_error *err);
 
+/* PLM_OK unless path is a PNG file one of whose chunks declares more bytes
+ * than the file holds: libpng allocates a chunk's declared length before it
+ * reads it, so such a file would ask for gigabytes (found by fuzzing). Files
+ * that are not PNG, and PNG files cut short at a chunk boundary, pass here
+ * and are left to the decoder. */
+plm_result plm_image_check_png_chunks(const char *path, plm_error *err);
+
 typedef enum plm_pixel_type {
     PLM_PIXEL_FLOAT = 0,  /* 32-bit float (EXR, HDR, TIFF) */
     PLM_PIXEL_UINT8 = 1,  /* PNG, JPEG */

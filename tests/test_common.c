@@ -188,6 +188,32 @@ static void image_round_trips_through_exr_and_png16(void **state)
     assert_non_null(strstr(err.message, "/nonexistent/x.exr"));
 }
 
+/* A PNG chunk that declares more bytes than the file holds is refused before
+ * libpng sees it (libpng would allocate the declared length first). */
+static void png_chunk_longer_than_the_file_is_refused(void **state)
+{
+    (void)state;
+    uint16_t px16[2 * 3 * 3] = {0};
+    char png[256];
+    snprintf(png, sizeof png, "/tmp/plumage-test-chunk-%ld.png", (long)getpid());
+    plm_error err;
+    assert_int_equal(plm_image_write(png, 3, 2, 3, PLM_PIXEL_UINT16, px16, &err), PLM_OK);
+    assert_int_equal(plm_image_check_png_chunks(png, &err), PLM_OK);
+    /* The chunk after IHDR (8-byte signature, then 12 + 13 bytes) claims 1.8 GB. */
+    FILE *f = fopen(png, "r+b");
+    assert_non_null(f);
+    const unsigned char huge[4] = {0x6d, 0x00, 0x00, 0x14};
+    assert_int_equal(fseek(f, 33, SEEK_SET), 0);
+    assert_int_equal(fwrite(huge, 1, 4, f), 4);
+    fclose(f);
+    int w, h, c;
+    float *back = NULL;
+    assert_int_equal(plm_image_read(png, &w, &h, &c, &back, &err), PLM_ERR_PARSE);
+    assert_null(back);
+    assert_non_null(strstr(err.message, "corrupt PNG: the chunk at byte 33 declares 1828716564 bytes"));
+    remove(png);
+}
+
 /* Text lands right of and above its baseline origin, in the asked colour,
  * and nowhere else; with alpha, the text is composited over the image. */
 static void text_is_drawn_at_its_baseline(void **state)
@@ -320,6 +346,7 @@ int main(void)
         cmocka_unit_test(json_errors_name_file_field_and_range),
         cmocka_unit_test(atomic_file_leaves_nothing_on_abort),
         cmocka_unit_test(image_round_trips_through_exr_and_png16),
+        cmocka_unit_test(png_chunk_longer_than_the_file_is_refused),
         cmocka_unit_test(text_is_drawn_at_its_baseline),
         cmocka_unit_test(parameter_tables_read_check_and_print),
         cmocka_unit_test(memory_figures_follow_what_is_touched),
