@@ -43,8 +43,10 @@ typedef struct plm_bsdf_sample_rec {
 
 struct plm_bsdf;
 typedef struct plm_bsdf_ops {
-    /* f(wo, wi) |cos theta_i|: the cosine is included so a BSDF may cancel it (Eq. 4). */
-    rgb (*eval)(const struct plm_bsdf *b, vec3 wi);
+    /* f(wo, wi) |cos theta_i|: the cosine is included so a BSDF may cancel it (Eq. 4).
+     * If pdf is not NULL it also receives pdf(wi): next-event estimation and
+     * a sampled direction's weight need both, and they share their lookups. */
+    rgb (*eval)(const struct plm_bsdf *b, vec3 wi, double *pdf);
     double (*pdf)(const struct plm_bsdf *b, vec3 wi);
     /* Returns 0 when no direction could be sampled. */
     int (*sample)(const struct plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s);
@@ -61,7 +63,8 @@ typedef struct plm_bsdf {
     _Alignas(16) unsigned char state[PLM_BSDF_STATE_BYTES];
 } plm_bsdf;
 
-static inline rgb plm_bsdf_eval(const plm_bsdf *b, vec3 wi) { return b->ops->eval(b, wi); }
+static inline rgb plm_bsdf_eval(const plm_bsdf *b, vec3 wi) { return b->ops->eval(b, wi, NULL); }
+static inline rgb plm_bsdf_eval_pdf(const plm_bsdf *b, vec3 wi, double *pdf) { return b->ops->eval(b, wi, pdf); }
 static inline double plm_bsdf_pdf(const plm_bsdf *b, vec3 wi) { return b->ops->pdf(b, wi); }
 static inline int plm_bsdf_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
 {

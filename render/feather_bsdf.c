@@ -144,16 +144,23 @@ void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo
 /* cos(theta) of a fiber-frame direction: its component across the axis. */
 static double fiber_cos_theta(vec3 local) { return plm_safe_sqrt(1.0 - local.z * local.z); }
 
-rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi)
+/* Sampling picks exactly the components eval sums (pick[k] > 0 iff
+ * weight[k] > 0 and the component carries light), so one loop serves both. */
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
 {
     rgb sum = rgb_gray(0.0);
+    double density = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (f->weight[k] <= 0.0 || !(f->bcsdf[k].total > 0.0))
+        if (!(f->pick[k] > 0.0))
             continue;
         vec3 local = frame_to_local(&f->fiber_frame[k], wi);
-        rgb s = plm_fiber_bcsdf_eval(&f->bcsdf[k], local);
+        double pk = 0.0;
+        rgb s = pdf ? plm_fiber_bcsdf_eval_pdf(&f->bcsdf[k], local, &pk) : plm_fiber_bcsdf_eval(&f->bcsdf[k], local);
         sum = rgb_add(sum, rgb_scale(s, f->weight[k] * fiber_cos_theta(local)));
+        density += f->pick[k] * pk;
     }
+    if (pdf)
+        *pdf = density;
     return rgb_mul(sum, f->tint);
 }
 
@@ -183,9 +190,9 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
     if (!plm_fiber_bcsdf_sample(&f->bcsdf[k], remapped, u1, u2, &rec))
         return 0;
     *wi = frame_to_world(&f->fiber_frame[k], rec.wi);
-    *pdf = plm_feather_pdf(f, *wi);
+    rgb f_cos = plm_feather_eval(f, *wi, pdf);
     if (!(*pdf > 0.0))
         return 0;
-    *weight = rgb_scale(plm_feather_eval(f, *wi), 1.0 / *pdf);
+    *weight = rgb_scale(f_cos, 1.0 / *pdf);
     return 1;
 }

@@ -80,8 +80,9 @@ double plm_feather_transmission(const plm_feather_params *p, const frame *barb, 
 void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
                          plm_feather_bsdf *out);
 
-/* f_s |wi.n| / (1 - w_t(wo)), see the top of this file. */
-rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi);
+/* f_s |wi.n| / (1 - w_t(wo)), see the top of this file; and, if pdf is not
+ * NULL, plm_feather_pdf(wi) from the same lookups. */
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf);
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi);
 /* Chooses a component by weight with u0, then samples its fiber. Returns 0 if nothing can be sampled. */
 int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,

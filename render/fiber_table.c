@@ -524,6 +524,13 @@ double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi)
     return pdf;
 }
 
+rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
+{
+    rgb f;
+    bcsdf_lookup(b, wi, &f, pdf);
+    return f;
+}
+
 int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec)
 {
     if (!(b->total > 0.0))

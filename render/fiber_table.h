@@ -102,6 +102,8 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
 /* As plm_fiber_eval: eval(wi) cos(theta_i) integrates to the energy over the sphere. */
 rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi);
 double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi);
+/* Both at once: one table lookup serves the two. */
+rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf);
 int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec);
 
 #endif

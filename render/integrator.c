@@ -66,7 +66,10 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     plm_light_sample ls;
     if (!plm_light_sample_from(&w->lights[li], hit->p, u1, u2, &ls) || rgb_is_black(ls.radiance))
         return rgb_gray(0.0);
-    rgb f = plm_bsdf_eval(bsdf, ls.wi);
+    /* MIS weighs by the BSDF's density, which comes with eval. */
+    int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
+    double bsdf_pdf = 0.0;
+    rgb f = plm_bsdf_eval_pdf(bsdf, ls.wi, weighted ? &bsdf_pdf : NULL);
     if (rgb_is_black(f))
         return rgb_gray(0.0);
     vec3 o = plm_world_offset(w, hit, ls.wi);
@@ -81,8 +84,7 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     if (visible <= 0.0)
         return rgb_gray(0.0);
     double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
-    double mis = ls.is_delta || est == PLM_ESTIMATOR_NEE ? 1.0
-                                                         : plm_power_heuristic(light_pdf, plm_bsdf_pdf(bsdf, ls.wi));
+    double mis = weighted ? plm_power_heuristic(light_pdf, bsdf_pdf) : 1.0;
     return rgb_scale(rgb_mul(f, ls.radiance), visible * mis / light_pdf);
 }
 

@@ -6,16 +6,18 @@
 
 _Static_assert(sizeof(plm_feather_bsdf) <= PLM_BSDF_STATE_BYTES, "plm_bsdf.state must hold a feather BSDF");
 
-static rgb diffuse_eval(const plm_bsdf *b, vec3 wi)
-{
-    double c = v3_dot(wi, b->shading.z);
-    return c > 0.0 ? rgb_scale(b->albedo, c * PLM_INV_PI) : rgb_gray(0.0);
-}
-
 static double diffuse_pdf(const plm_bsdf *b, vec3 wi)
 {
     double c = v3_dot(wi, b->shading.z);
     return c > 0.0 ? c * PLM_INV_PI : 0.0;
+}
+
+static rgb diffuse_eval(const plm_bsdf *b, vec3 wi, double *pdf)
+{
+    double p = diffuse_pdf(b, wi); /* the cosine-weighted f is albedo times the density */
+    if (pdf)
+        *pdf = p;
+    return rgb_scale(b->albedo, p);
 }
 
 static int diffuse_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
@@ -44,7 +46,7 @@ void plm_diffuse_bsdf(const plm_hit *hit, vec3 wo, rgb albedo, plm_bsdf *out)
 }
 
 static const plm_feather_bsdf *feather_state(const plm_bsdf *b) { return (const plm_feather_bsdf *)b->state; }
-static rgb feather_eval(const plm_bsdf *b, vec3 wi) { return plm_feather_eval(feather_state(b), wi); }
+static rgb feather_eval(const plm_bsdf *b, vec3 wi, double *pdf) { return plm_feather_eval(feather_state(b), wi, pdf); }
 static double feather_pdf(const plm_bsdf *b, vec3 wi) { return plm_feather_pdf(feather_state(b), wi); }
 static int feather_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
 {
