@@ -18,6 +18,7 @@
 
 #include "common/rng.h"
 #include "common/vec.h"
+#include "render/masking.h"
 #include "render/scene.h"
 
 /* What a material needs to know about the surface at a hit, in world space. */
@@ -33,6 +34,11 @@ typedef struct plm_hit {
      * and there the barb frame (x = b, y = n, z = t; docs/masking.md). */
     int on_vane;
     frame barb;
+    /* Set by plm_material_transmission_keep: the feather's masking for the
+     * view direction masking_w, which the BSDF reuses when wo is the same. */
+    int has_masking;
+    vec3 masking_w;
+    plm_masking masking;
 } plm_hit;
 
 typedef struct plm_bsdf_sample_rec {
@@ -75,6 +81,9 @@ static inline int plm_bsdf_sample(const plm_bsdf *b, double u0, double u1, doubl
  * data (the texture lookups), done once per hit. */
 void plm_material_surface(plm_hit *hit);
 double plm_material_transmission(const plm_hit *hit, vec3 w);
+/* The same, keeping what it computed in the hit for plm_material_bsdf with wo = w
+ * (a ray's closest hit was seen by the filters that decided its passing). */
+double plm_material_transmission_keep(plm_hit *hit, vec3 w);
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out);
 
 /* Lambertian reflection on the side of wo (two-sided), albedo in [0, 1]. */

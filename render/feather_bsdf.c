@@ -83,22 +83,35 @@ int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, fram
     return 1;
 }
 
-double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w)
+void plm_feather_masking(const plm_feather_params *p, const frame *barb, vec3 w, plm_masking *out)
 {
     assert(masking_is_prepared(p));
+    plm_masking_eval_prepared(&p->masking_model, frame_to_local(barb, w), out);
+}
+
+double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w)
+{
     plm_masking m;
-    plm_masking_eval_prepared(&p->masking_model, frame_to_local(barb, w), &m);
+    plm_feather_masking(p, barb, w, &m);
     return m.w_transmission;
 }
 
 void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
                          plm_feather_bsdf *out)
 {
+    plm_feather_prepare_masked(p, barb, wo, NULL, tint, rng, out);
+}
+
+void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
+                                rgb tint, plm_rng *rng, plm_feather_bsdf *out)
+{
     out->params = p;
     out->tint = tint;
-    assert(masking_is_prepared(p));
     plm_masking *m = &out->masking;
-    plm_masking_eval_prepared(&p->masking_model, frame_to_local(barb, wo), m);
+    if (masking)
+        *m = *masking;
+    else
+        plm_feather_masking(p, barb, wo, m);
     const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
     out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
     for (int k = 0; k < 2; ++k) {

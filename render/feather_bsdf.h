@@ -71,14 +71,18 @@ typedef struct plm_feather_bsdf {
     rgb tint;
 } plm_feather_bsdf;
 
-/* Masking weight of the straight-through event for a ray leaving toward w
- * (the view side; w in world space, the barb frame as above). */
+/* The masking seen from w (world space, the barb frame as above). */
+void plm_feather_masking(const plm_feather_params *p, const frame *barb, vec3 w, plm_masking *out);
+/* Its weight of the straight-through event for a ray leaving toward w (the view side). */
 double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w);
 
 /* Prepares for wo (world space): the masking, then a lobe set per fiber from
  * rng (the barb's h-range chosen among the masking's ranges by their rates). */
 void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
                          plm_feather_bsdf *out);
+/* The same with the masking for wo already known (plm_feather_masking), or NULL. */
+void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
+                                rgb tint, plm_rng *rng, plm_feather_bsdf *out);
 
 /* f_s |wi.n| / (1 - w_t(wo)), see the top of this file; and, if pdf is not
  * NULL, plm_feather_pdf(wi) from the same lookups. */

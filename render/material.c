@@ -75,6 +75,7 @@ void plm_material_surface(plm_hit *hit)
      * (the Embree filters drop them). */
     const plm_material *m = hit->material;
     hit->on_vane = 0;
+    hit->has_masking = 0;
     if (m->type != PLM_MATERIAL_FEATHER || plm_feather_texture_region(&m->texture, hit->uv) != PLM_REGION_VANE)
         return;
     vec2 dir = plm_feather_texture_direction(&m->texture, hit->uv);
@@ -91,13 +92,27 @@ double plm_material_transmission(const plm_hit *hit, vec3 w)
     return hit->on_vane ? plm_feather_transmission(m->feather, &hit->barb, w) : 0.0;
 }
 
+double plm_material_transmission_keep(plm_hit *hit, vec3 w)
+{
+    const plm_material *m = hit->material;
+    if (m->type != PLM_MATERIAL_FEATHER || !hit->on_vane)
+        return plm_material_transmission(hit, w);
+    plm_feather_masking(m->feather, &hit->barb, w, &hit->masking);
+    hit->has_masking = 1;
+    hit->masking_w = w;
+    return hit->masking.w_transmission;
+}
+
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
 {
     const plm_material *m = hit->material;
     /* Diffuse materials, and a feather's rachis: the material's reflectance. */
     plm_diffuse_bsdf(hit, wo, rgb_mul(m->reflectance, hit->tint), out);
     if (hit->on_vane) {
-        plm_feather_prepare(m->feather, &hit->barb, wo, hit->tint, rng, (plm_feather_bsdf *)out->state);
+        int known = hit->has_masking && hit->masking_w.x == wo.x && hit->masking_w.y == wo.y &&
+                    hit->masking_w.z == wo.z;
+        plm_feather_prepare_masked(m->feather, &hit->barb, wo, known ? &hit->masking : NULL, hit->tint, rng,
+                                   (plm_feather_bsdf *)out->state);
         out->ops = &feather_ops;
     }
 }

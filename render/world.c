@@ -36,6 +36,13 @@ typedef struct query_context {
     int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
     double t[MAX_CROSSINGS], transmission[MAX_CROSSINGS];
     double overflow;                  /* product of the transmissions beyond MAX_CROSSINGS */
+    /* passing: the last candidate kept, filled as the filter saw it. Embree
+     * reports only candidates nearer than the one it holds, so this is the
+     * closest hit unless a surface without filter was found nearer. */
+    plm_hit *kept;
+    int have_kept;
+    unsigned kept_inst, kept_prim;
+    float kept_t;
 } query_context;
 
 static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, plm_hit *hit);
@@ -67,14 +74,21 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
         plm_hit h;
         fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], &h);
         /* In instances the ray arrives in object space; its parameter t is the world one. */
-        double tr = plm_material_transmission(&h, ctx->back);
+        double tr = plm_material_transmission_keep(&h, ctx->back);
         if (ctx->passing) {
             /* One uniform per surface, from its identity rather than from the order Embree
              * reports candidates in: every surface nearer than the hit kept was reported
              * and passed, so the kept hit is distributed as when tracing one crossing at a time. */
             double u = (double)(plm_hash64(ctx->seed, inst, prim) >> 11) * 0x1.0p-53;
-            if (tr > 0.0 && u < tr)
+            if (tr > 0.0 && u < tr) {
                 args->valid[i] = 0;
+            } else if (ctx->kept) { /* the hit and its masking, for the shading that follows */
+                *ctx->kept = h;
+                ctx->have_kept = 1;
+                ctx->kept_inst = inst;
+                ctx->kept_prim = prim;
+                ctx->kept_t = ray[8 * n + i];
+            }
             continue;
         }
         if (!(tr > 0.0))
@@ -411,6 +425,8 @@ static void init_context(query_context *ctx, const plm_world *w, int transparent
     ctx->passing = 0;
     ctx->crossings = 0;
     ctx->overflow = 1.0;
+    ctx->kept = NULL;
+    ctx->have_kept = 0;
 }
 
 static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
@@ -423,8 +439,9 @@ static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, dou
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return 0;
     *t = rh.ray.tfar;
-    unsigned inst = rh.hit.instID[0];
-    fill_hit(w, inst, w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID], rh.hit.u, rh.hit.v, hit);
+    unsigned inst = rh.hit.instID[0], prim = w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID];
+    if (!(ctx->have_kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
+        fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, hit);
     return 1;
 }
 
@@ -443,6 +460,7 @@ int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax,
     ctx.passing = w->transmissive;
     ctx.seed = seed;
     ctx.back = v3_neg(d);
+    ctx.kept = hit;
     return intersect(w, &ctx, o, d, tmax, t, hit);
 }
 
