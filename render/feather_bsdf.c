@@ -154,17 +154,20 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
         out->pick[k] = total > 0.0 ? out->pick[k] / total : 0.0;
 }
 
-/* cos(theta) of a fiber-frame direction: its component across the axis. */
-static double fiber_cos_theta(vec3 local) { return plm_safe_sqrt(1.0 - local.z * local.z); }
+/* cos(theta) of a fiber-frame direction: the length of its component across
+ * the axis (as the fiber samplers compute it; accurate near the axis). */
+static double fiber_cos_theta(vec3 local) { return sqrt(local.x * local.x + local.y * local.y); }
 
-/* Sampling picks exactly the components eval sums (pick[k] > 0 iff
- * weight[k] > 0 and the component carries light), so one loop serves both. */
-rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
+/* The sum over components other than `skip` of eval (times weight and
+ * cosine), and of pdf into *pdf if not NULL. Sampling picks exactly the
+ * components eval sums (pick[k] > 0 iff weight[k] > 0 and the component
+ * carries light), so one loop serves both. */
+static rgb eval_components(const plm_feather_bsdf *f, vec3 wi, int skip, double *pdf)
 {
     rgb sum = rgb_gray(0.0);
     double density = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (!(f->pick[k] > 0.0))
+        if (k == skip || !(f->pick[k] > 0.0))
             continue;
         vec3 local = frame_to_local(&f->fiber_frame[k], wi);
         double pk = 0.0;
@@ -174,7 +177,12 @@ rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
     }
     if (pdf)
         *pdf = density;
-    return rgb_mul(sum, f->tint);
+    return sum;
+}
+
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
+{
+    return rgb_mul(eval_components(f, wi, -1, pdf), f->tint);
 }
 
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
@@ -203,9 +211,12 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
     if (!plm_fiber_bcsdf_sample(&f->bcsdf[k], remapped, u1, u2, &rec))
         return 0;
     *wi = frame_to_world(&f->fiber_frame[k], rec.wi);
-    rgb f_cos = plm_feather_eval(f, *wi, pdf);
+    /* Fiber k's eval cos (= weight pdf) and pdf at wi came with its sample;
+     * only the other fibers are looked up. */
+    rgb f_cos = rgb_add(eval_components(f, *wi, k, pdf), rgb_scale(rec.weight, rec.pdf * f->weight[k]));
+    *pdf += w[k] * rec.pdf;
     if (!(*pdf > 0.0))
         return 0;
-    *weight = rgb_scale(f_cos, 1.0 / *pdf);
+    *weight = rgb_scale(rgb_mul(f_cos, f->tint), 1.0 / *pdf);
     return 1;
 }
