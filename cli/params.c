@@ -1,18 +1,20 @@
-/* plumage params: the parameter tables of the scene format's blocks (field,
- * type, default, range, unit, meaning), as text or as the markdown tables of
- * docs/scene-format.md. The tables are the ones the scene reader validates
- * with (common/params.h). */
+/* plumage params: the parameter tables of the scene format's and the species
+ * format's blocks (field, type, default, range, unit, meaning), as text or as
+ * the markdown tables of docs/scene-format.md and docs/species.md. The tables
+ * are the ones the readers validate with (common/params.h). */
 #include <stdio.h>
 #include <string.h>
 
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "generate/layout.h"
+#include "generate/species.h"
 #include "render/feather_bsdf.h"
 #include "render/scene.h"
 #include "scene/layout_block.h"
 
 typedef struct block_entry {
+    const char *group; /* "scene" or "species" */
     const plm_param_block *block;
     int n_defaults;
     const char *labels[2];
@@ -27,9 +29,10 @@ int cmd_params(int argc, char **argv)
     };
     plm_command_help help = {
         "plumage params [BLOCK...] [--markdown]",
-        "Lists the fields of the scene format's parameter blocks: type, default, allowed range, unit and meaning.\n"
-        "BLOCK is one of camera, film, feather, fiber, masking, pelt, ball, wing, variation (default: all).\n"
-        "These tables are the ones scene files are checked against."};
+        "Lists the fields of the scene format's and the species format's parameter blocks: type, default,\n"
+        "allowed range, unit and meaning. BLOCK is a block's name (camera, film, feather, fiber, masking, pelt,\n"
+        "ball, wing, variation; shape, shape.rachis, ..., pigment) or a group, scene or species (default: all).\n"
+        "These tables are the ones scene and species files are checked against."};
     const char *names[16];
     int n_names = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, 1, names, 16, &n_names);
@@ -45,25 +48,41 @@ int cmd_params(int argc, char **argv)
     static const plm_ball_params ball;
     static const plm_wing_params wing;
     static const plm_layout_variation variation;
+    plm_species species;
+    plm_species_default(&species);
+    plm_split_draw draw;
+    plm_split_draw_default(&draw);
+    const plm_split split = {0.5, 0.3, 0};
+    const plm_shape *shape = &species.shape;
     const block_entry blocks[] = {
-        {&plm_camera_param_block, 1, {""}, {&scene.camera}},
-        {&plm_film_param_block, 1, {""}, {&scene.film}},
-        {&plm_feather_material_param_block, 1, {""}, {&material}},
-        {&plm_fiber_param_block, 2, {"barb", "barbule"}, {&feather.barb, &feather.barbule}},
-        {&plm_masking_param_block, 1, {""}, {&feather.masking}},
-        {&plm_pelt_param_block, 1, {""}, {&pelt}},
-        {&plm_ball_param_block, 1, {""}, {&ball}},
-        {&plm_wing_param_block, 1, {""}, {&wing}},
-        {&plm_variation_param_block, 1, {""}, {&variation}},
+        {"scene", &plm_camera_param_block, 1, {""}, {&scene.camera}},
+        {"scene", &plm_film_param_block, 1, {""}, {&scene.film}},
+        {"scene", &plm_feather_material_param_block, 1, {""}, {&material}},
+        {"scene", &plm_fiber_param_block, 2, {"barb", "barbule"}, {&feather.barb, &feather.barbule}},
+        {"scene", &plm_masking_param_block, 1, {""}, {&feather.masking}},
+        {"scene", &plm_pelt_param_block, 1, {""}, {&pelt}},
+        {"scene", &plm_ball_param_block, 1, {""}, {&ball}},
+        {"scene", &plm_wing_param_block, 1, {""}, {&wing}},
+        {"scene", &plm_variation_param_block, 1, {""}, {&variation}},
+        {"species", &plm_shape_param_block, 1, {""}, {shape}},
+        {"species", &plm_rachis_param_block, 1, {""}, {shape}},
+        {"species", &plm_vane_param_block, 1, {""}, {shape}},
+        {"species", &plm_vane_tip_param_block, 1, {""}, {shape}},
+        {"species", &plm_barbs_param_block, 1, {""}, {shape}},
+        {"species", &plm_splits_param_block, 1, {""}, {&draw}},
+        {"species", &plm_split_param_block, 1, {""}, {&split}},
+        {"species", &plm_pigment_param_block, 1, {""}, {&species.pigment}},
     };
     const int n_blocks = (int)(sizeof blocks / sizeof blocks[0]);
     for (int i = 0; i < n_names; ++i) {
         int known = 0;
         for (int b = 0; b < n_blocks; ++b)
-            known |= strcmp(names[i], blocks[b].block->name) == 0;
+            known |= strcmp(names[i], blocks[b].block->name) == 0 || strcmp(names[i], blocks[b].group) == 0;
         if (!known) {
-            fprintf(stderr, "error: unknown block '%s' (one of camera, film, feather, fiber, masking, pelt, ball, wing, variation)\n",
-                    names[i]);
+            fprintf(stderr, "error: unknown block '%s' (a group, scene or species, or one of:", names[i]);
+            for (int b = 0; b < n_blocks; ++b)
+                fprintf(stderr, "%s %s", b ? "," : "", blocks[b].block->name);
+            fprintf(stderr, ")\n");
             return 2;
         }
     }
@@ -71,7 +90,7 @@ int cmd_params(int argc, char **argv)
     for (int b = 0; b < n_blocks; ++b) {
         int wanted = n_names == 0;
         for (int i = 0; i < n_names; ++i)
-            wanted |= strcmp(names[i], blocks[b].block->name) == 0;
+            wanted |= strcmp(names[i], blocks[b].block->name) == 0 || strcmp(names[i], blocks[b].group) == 0;
         if (!wanted)
             continue;
         if (!first)

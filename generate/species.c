@@ -1,10 +1,12 @@
 #include "generate/species.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "common/json.h"
+#include "common/params.h"
 #include "common/rng.h"
 #include "common/vec.h"
 #include "generate/outline.h"
@@ -40,14 +42,103 @@ void plm_species_default(plm_species *s)
     s->pigment.barb_jitter = 0.3;
 }
 
-/* Reads an angle in degrees into radians. */
-static plm_result angle_field(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
-                              double def_rad, double lo_deg, double hi_deg, double *out)
+/* The parameter tables of the species file's blocks (common/params.h): one
+ * range per field, read by the parser, by `plumage params` and, through it,
+ * by docs/species.md. Relations between fields that a single range cannot
+ * express are checked in plm_species_validate. */
+#define SHAPE_FIELD(name, member, lo, hi, unit, meaning) {name, PLM_PARAM_NUMBER, offsetof(plm_shape, member), lo, hi, unit, meaning, 0}
+#define SHAPE_ANGLE(name, member, lo, hi, meaning) {name, PLM_PARAM_ANGLE, offsetof(plm_shape, member), lo, hi, "degrees", meaning, 0}
+
+static const plm_param shape_params[] = {
+    SHAPE_FIELD("length", length, 1.0, 2000.0, "mm", "calamus base to tip along the rachis"),
+    SHAPE_FIELD("calamus_length", calamus_length, 0.0, 1000.0, "mm",
+                "bare base before the vanes; below 90% of length"),
+    SHAPE_FIELD("plumulaceous", plumulaceous, 0.0, 0.95, "fraction of the vaned length",
+                "downy (fluffy) base: barbs leaving the rachis here are loose strands"),
+};
+const plm_param_block plm_shape_param_block = {"shape", "the feather's size (also rachis, vane, barbs, splits)",
+                                               shape_params, 3};
+
+static const plm_param rachis_params[] = {
+    SHAPE_FIELD("base_width", rachis_base_width, 0.01, 50.0, "mm", "rachis diameter at the base"),
+    SHAPE_FIELD("tip_width", rachis_tip_width, 0.01, 50.0, "mm", "diameter at the rachis end; at most base_width"),
+    SHAPE_FIELD("taper", rachis_taper, 0.1, 10.0, "", "exponent: width = base + (tip - base) s^taper along the rachis"),
+    SHAPE_ANGLE("bend_in_plane", bend_in_plane, -90.0, 90.0, "total turn in the vane plane; > 0 toward the right vane"),
+    SHAPE_ANGLE("bend_out_of_plane", bend_out_of_plane, -90.0, 90.0, "total turn out of the plane; > 0 ventral"),
+    SHAPE_ANGLE("twist", twist, -180.0, 180.0, "turn of the vane plane about the rachis, base to tip"),
+};
+const plm_param_block plm_rachis_param_block = {"shape.rachis", "the shaft", rachis_params, 6};
+
+static const plm_param vane_params[] = {
+    SHAPE_ANGLE("curl", curl, -60.0, 60.0, "slope of the vane at its widest point (cupping); > 0 edges ventral"),
+};
+const plm_param_block plm_vane_param_block = {"shape.vane", "the vanes (also left.width, right.width, tip)",
+                                              vane_params, 1};
+
+/* shape.vane.tip's "shape" is one of these names (read beside the table). */
+static const char *const tip_shapes[] = {"rounded", "pointed", "notched", NULL};
+static const plm_param tip_params[] = {
+    SHAPE_FIELD("length", tip_length, 0.01, 0.9, "fraction of the vaned length", "where the closing starts"),
+};
+const plm_param_block plm_vane_tip_param_block = {"shape.vane.tip", "the vane's tip (also shape: rounded, pointed, notched)",
+                                                  tip_params, 1};
+
+/* The first two rows also serve shape.barbs.left and .right, read into
+ * side 1 by offsetting the target one double (barb_angle_*[1]). */
+static const plm_param barbs_params[] = {
+    SHAPE_ANGLE("angle_base", barb_angle_base[0], 5.0, 90.0,
+                "barb angle to the rachis (toward the tip) at the vane's base; linear to angle_tip"),
+    SHAPE_ANGLE("angle_tip", barb_angle_tip[0], 5.0, 90.0, "barb angle at the vane's tip"),
+    SHAPE_ANGLE("curvature", barb_curvature, -45.0, 80.0,
+                "turn of a barb toward the tip between rachis and vane edge; below the smallest angle minus 2"),
+    SHAPE_FIELD("density", barb_density, 1.0, 200.0, "per cm", "barbs per cm along the rachis, per side"),
+};
+const plm_param_block plm_barbs_param_block = {"shape.barbs", "barb angles, curvature and density (also left, right)",
+                                               barbs_params, 4};
+const plm_param_block plm_barb_side_param_block = {"shape.barbs.left", "one vane's own barb angles (also .right)",
+                                                   barbs_params, 2};
+
+static const plm_param splits_params[] = {
+    {"count", PLM_PARAM_INT, offsetof(plm_split_draw, count), 0.0, PLM_SPLITS_MAX, "",
+     "splits drawn from the seed (instead of a list)", 0},
+    {"seed", PLM_PARAM_SEED, offsetof(plm_split_draw, seed), 0.0, 2147483647.0, "", "draws positions, depths, sides",
+     0},
+    {"positions", PLM_PARAM_PAIR, offsetof(plm_split_draw, positions), 0.0, 1.0, "fraction of the vaned length",
+     "[min, max] of the drawn positions", 0},
+    {"depths", PLM_PARAM_PAIR, offsetof(plm_split_draw, depths), 0.0, 1.0, "fraction of the vane width",
+     "[min, max] of the drawn depths", PLM_PARAM_OPEN_MIN},
+    {"gap", PLM_PARAM_NUMBER, offsetof(plm_split_draw, gap), 0.0, 20.0, "mm", "split width at the vane edge", 0},
+};
+const plm_param_block plm_splits_param_block = {"shape.splits", "gaps between barbs (also list)", splits_params, 5};
+
+static const char *const sides[] = {"left", "right", NULL};
+static const plm_param split_params[] = {
+    {"position", PLM_PARAM_NUMBER, offsetof(plm_split, position), 0.0, 1.0, "fraction of the vaned length",
+     "where the split's barb leaves the rachis; beyond shape.plumulaceous", PLM_PARAM_OPEN_MAX},
+    {"depth", PLM_PARAM_NUMBER, offsetof(plm_split, depth), 0.0, 1.0, "fraction of the vane width",
+     "how far the gap reaches in from the edge", PLM_PARAM_OPEN_MIN},
+};
+const plm_param_block plm_split_param_block = {"shape.splits.list[]",
+                                               "one split of the list (also side: left or right, alternating by default)",
+                                               split_params, 2};
+
+static const plm_param pigment_params[] = {
+    {"bands", PLM_PARAM_INT, offsetof(plm_pigment, band_count), 0.0, 200.0, "",
+     "dark bars across the vane, following the barbs", 0},
+    {"band_width", PLM_PARAM_NUMBER, offsetof(plm_pigment, band_width), 0.0, 1.0, "fraction of a period",
+     "dark part of each bar period", 0},
+    {"tip_length", PLM_PARAM_NUMBER, offsetof(plm_pigment, tip_length), 0.0, 1.0, "fraction of the vane",
+     "length of the tip colour ramp", 0},
+    {"barb_jitter", PLM_PARAM_NUMBER, offsetof(plm_pigment, barb_jitter), 0.0, 1.0, "",
+     "amplitude of the per-barb variation", 0},
+    {"seed", PLM_PARAM_SEED, offsetof(plm_pigment, seed), 0.0, 2147483647.0, "", "per-barb values", 0},
+};
+const plm_param_block plm_pigment_param_block = {"pigment", "pigment variation: bands, tip, per-barb", pigment_params,
+                                                 5};
+
+void plm_split_draw_default(plm_split_draw *d)
 {
-    double deg;
-    plm_result rc = plm_json_number(r, obj, path, key, plm_degrees(def_rad), lo_deg, hi_deg, &deg);
-    *out = plm_radians(deg);
-    return rc;
+    *d = (plm_split_draw){0, 1, {0.3, 0.9}, {0.2, 0.6}, 0.8};
 }
 
 #define TRY(expr)                                                                                            \
@@ -57,24 +148,41 @@ static plm_result angle_field(const plm_json_reader *r, const cJSON *obj, const 
             return rc_;                                                                                      \
     } while (0)
 
-static plm_result parse_rachis(const plm_json_reader *r, const cJSON *obj, plm_shape *sh)
+/* A species read from a file or from inside another (a scene's inline
+ * species): `prefix` is where its root lies, "" for a species file. */
+typedef struct species_reader {
+    plm_json_reader json;
+    const char *prefix;
+} species_reader;
+
+/* prefix.path into buf */
+static const char *at(const species_reader *r, const char *path, char *buf, size_t size)
 {
-    static const char *const keys[] = {"base_width", "tip_width", "taper", "bend_in_plane", "bend_out_of_plane",
-                                       "twist", NULL};
-    const char *p = "shape.rachis";
-    TRY(plm_json_check_object(r, obj, p, keys));
-    TRY(plm_json_number(r, obj, p, "base_width", sh->rachis_base_width, 0.01, 50.0, &sh->rachis_base_width));
-    TRY(plm_json_number(r, obj, p, "tip_width", sh->rachis_tip_width, 0.01, 50.0, &sh->rachis_tip_width));
-    TRY(plm_json_number(r, obj, p, "taper", sh->rachis_taper, 0.1, 10.0, &sh->rachis_taper));
-    TRY(angle_field(r, obj, p, "bend_in_plane", sh->bend_in_plane, -90.0, 90.0, &sh->bend_in_plane));
-    TRY(angle_field(r, obj, p, "bend_out_of_plane", sh->bend_out_of_plane, -90.0, 90.0, &sh->bend_out_of_plane));
-    return angle_field(r, obj, p, "twist", sh->twist, -180.0, 180.0, &sh->twist);
+    snprintf(buf, size, "%s%s%s", r->prefix, r->prefix[0] && path[0] ? "." : "", path);
+    return buf;
+}
+
+static plm_result read_block(const species_reader *r, const cJSON *obj, const char *path, const plm_param_block *b,
+                             const char *const *extra, void *target)
+{
+    char full[PLM_SPECIES_PATH_MAX];
+    return plm_params_read(&r->json, obj, at(r, path, full, sizeof full), b, extra, target);
+}
+
+static plm_result fail(const species_reader *r, const char *path, const char *key, const char *msg)
+{
+    char full[PLM_SPECIES_PATH_MAX];
+    return plm_json_fail(&r->json, at(r, path, full, sizeof full), key, "%s", msg);
 }
 
 /* "width": [[t, mm], ...] with t strictly increasing from 0 to 1. */
-static plm_result parse_width(const plm_json_reader *r, const cJSON *obj, const char *path, plm_width_profile *w)
+static plm_result parse_width(const species_reader *sr, const cJSON *obj, const char *side_path,
+                              plm_width_profile *w)
 {
     static const char *const keys[] = {"width", NULL};
+    char path[PLM_SPECIES_PATH_MAX];
+    const plm_json_reader *r = &sr->json;
+    at(sr, side_path, path, sizeof path);
     TRY(plm_json_check_object(r, obj, path, keys));
     const cJSON *arr = cJSON_GetObjectItemCaseSensitive(obj, "width");
     if (!arr)
@@ -94,8 +202,8 @@ static plm_result parse_width(const plm_json_reader *r, const cJSON *obj, const 
             return plm_json_fail(r, path, key, "position %g is outside the vane [0, 1]", t);
         if (i > 0 && !(t > w->t[i - 1]))
             return plm_json_fail(r, path, key, "positions must increase (%g follows %g)", t, w->t[i - 1]);
-        if (!(v >= 0.0 && v <= 500.0))
-            return plm_json_fail(r, path, key, "width %g mm is out of range [0, 500]", v);
+        if (!(v >= 0.0 && v <= PLM_WIDTH_MAX_MM))
+            return plm_json_fail(r, path, key, "width %g mm is out of range [0, %g]", v, PLM_WIDTH_MAX_MM);
         w->t[i] = t;
         w->width[i] = v;
     }
@@ -105,143 +213,109 @@ static plm_result parse_width(const plm_json_reader *r, const cJSON *obj, const 
     return PLM_OK;
 }
 
-static plm_result parse_vane(const plm_json_reader *r, const cJSON *obj, plm_shape *sh)
+static plm_result parse_vane(const species_reader *r, const cJSON *obj, plm_shape *sh)
 {
-    static const char *const keys[] = {"left", "right", "curl", "tip", NULL};
-    static const char *const tip_keys[] = {"shape", "length", NULL};
-    static const char *const shapes[] = {"rounded", "pointed", "notched", NULL};
-    const char *p = "shape.vane";
-    TRY(plm_json_check_object(r, obj, p, keys));
-    const cJSON *left = cJSON_GetObjectItemCaseSensitive(obj, "left");
-    const cJSON *right = cJSON_GetObjectItemCaseSensitive(obj, "right");
-    if (left)
-        TRY(parse_width(r, left, "shape.vane.left", &sh->width[0]));
-    if (right)
-        TRY(parse_width(r, right, "shape.vane.right", &sh->width[1]));
-    TRY(angle_field(r, obj, p, "curl", sh->curl, -60.0, 60.0, &sh->curl));
+    static const char *const extra[] = {"left", "right", "tip", NULL};
+    TRY(read_block(r, obj, "shape.vane", &plm_vane_param_block, extra, sh));
+    const cJSON *side[2] = {cJSON_GetObjectItemCaseSensitive(obj, "left"),
+                            cJSON_GetObjectItemCaseSensitive(obj, "right")};
+    for (int k = 0; k < 2; ++k)
+        if (side[k])
+            TRY(parse_width(r, side[k], k ? "shape.vane.right" : "shape.vane.left", &sh->width[k]));
+    static const char *const tip_extra[] = {"shape", NULL};
     const cJSON *tip = cJSON_GetObjectItemCaseSensitive(obj, "tip");
     if (!tip)
         return PLM_OK;
+    TRY(read_block(r, tip, "shape.vane.tip", &plm_vane_tip_param_block, tip_extra, sh));
+    char path[PLM_SPECIES_PATH_MAX];
     int shape = (int)sh->tip_shape;
-    TRY(plm_json_check_object(r, tip, "shape.vane.tip", tip_keys));
-    TRY(plm_json_enum(r, tip, "shape.vane.tip", "shape", shapes, shape, &shape));
+    TRY(plm_json_enum(&r->json, tip, at(r, "shape.vane.tip", path, sizeof path), "shape", tip_shapes, shape, &shape));
     sh->tip_shape = (plm_tip_shape)shape;
-    return plm_json_number(r, tip, "shape.vane.tip", "length", sh->tip_length, 0.01, 0.9, &sh->tip_length);
+    return PLM_OK;
 }
 
 /* Barb angles for both sides, then optional "left"/"right" objects that
  * override them for one side (flight feathers differ between vanes). */
-static plm_result parse_barbs(const plm_json_reader *r, const cJSON *obj, plm_shape *sh)
+static plm_result parse_barbs(const species_reader *r, const cJSON *obj, plm_shape *sh)
 {
-    static const char *const keys[] = {"angle_base", "angle_tip", "curvature", "density", "left", "right", NULL};
-    static const char *const side_keys[] = {"angle_base", "angle_tip", NULL};
+    static const char *const extra[] = {"left", "right", NULL};
     static const char *const side_paths[2] = {"shape.barbs.left", "shape.barbs.right"};
-    const char *p = "shape.barbs";
-    TRY(plm_json_check_object(r, obj, p, keys));
-    double base = sh->barb_angle_base[0], tip = sh->barb_angle_tip[0];
-    TRY(angle_field(r, obj, p, "angle_base", base, 5.0, 90.0, &base));
-    TRY(angle_field(r, obj, p, "angle_tip", tip, 5.0, 90.0, &tip));
+    TRY(read_block(r, obj, "shape.barbs", &plm_barbs_param_block, extra, sh));
+    sh->barb_angle_base[1] = sh->barb_angle_base[0];
+    sh->barb_angle_tip[1] = sh->barb_angle_tip[0];
+    double shared[2] = {sh->barb_angle_base[0], sh->barb_angle_tip[0]};
     for (int side = 0; side < 2; ++side) {
-        sh->barb_angle_base[side] = base;
-        sh->barb_angle_tip[side] = tip;
         const cJSON *so = cJSON_GetObjectItemCaseSensitive(obj, side ? "right" : "left");
-        if (!so)
-            continue;
-        TRY(plm_json_check_object(r, so, side_paths[side], side_keys));
-        TRY(angle_field(r, so, side_paths[side], "angle_base", base, 5.0, 90.0, &sh->barb_angle_base[side]));
-        TRY(angle_field(r, so, side_paths[side], "angle_tip", tip, 5.0, 90.0, &sh->barb_angle_tip[side]));
+        if (so)
+            TRY(read_block(r, so, side_paths[side], &plm_barb_side_param_block, NULL,
+                           (char *)sh + (size_t)side * sizeof(double)));
     }
-    TRY(angle_field(r, obj, p, "curvature", sh->barb_curvature, -45.0, 80.0, &sh->barb_curvature));
-    return plm_json_number(r, obj, p, "density", sh->barb_density, 1.0, 200.0, &sh->barb_density);
+    /* Side 0's angles are also the shared ones: a left override must not change the right. */
+    if (!cJSON_GetObjectItemCaseSensitive(obj, "right")) {
+        sh->barb_angle_base[1] = shared[0];
+        sh->barb_angle_tip[1] = shared[1];
+    }
+    return PLM_OK;
 }
 
 /* Splits either listed one by one or drawn from a seed:
  *   "splits": {"list": [{"position": 0.5, "depth": 0.4, "side": "left"}], "gap": 0.8}
  *   "splits": {"count": 3, "seed": 7, "positions": [0.3, 0.9], "depths": [0.2, 0.6], "gap": 0.8} */
-static plm_result parse_splits(const plm_json_reader *r, const cJSON *obj, plm_shape *sh)
+static plm_result parse_splits(const species_reader *r, const cJSON *obj, plm_shape *sh)
 {
-    static const char *const keys[] = {"list", "count", "seed", "positions", "depths", "gap", NULL};
-    static const char *const item_keys[] = {"position", "depth", "side", NULL};
-    static const char *const sides[] = {"left", "right", NULL};
-    const char *p = "shape.splits";
-    TRY(plm_json_check_object(r, obj, p, keys));
-    TRY(plm_json_number(r, obj, p, "gap", sh->split_gap, 0.0, 20.0, &sh->split_gap));
+    static const char *const extra[] = {"list", NULL};
+    plm_split_draw d;
+    plm_split_draw_default(&d);
+    d.gap = sh->split_gap;
+    TRY(read_block(r, obj, "shape.splits", &plm_splits_param_block, extra, &d));
+    sh->split_gap = d.gap;
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(obj, "list");
     if (list) {
         int n = cJSON_GetArraySize(list);
-        if (!cJSON_IsArray(list) || n > PLM_SPLITS_MAX)
-            return plm_json_fail(r, p, "list", "expected an array of at most %d splits", PLM_SPLITS_MAX);
+        if (!cJSON_IsArray(list) || n > PLM_SPLITS_MAX) {
+            char msg[64];
+            snprintf(msg, sizeof msg, "expected an array of at most %d splits", PLM_SPLITS_MAX);
+            return fail(r, "shape.splits", "list", msg);
+        }
         if (cJSON_GetObjectItemCaseSensitive(obj, "count"))
-            return plm_json_fail(r, p, "count", "give either \"list\" or \"count\", not both");
+            return fail(r, "shape.splits", "count", "give either \"list\" or \"count\", not both");
         for (int i = 0; i < n; ++i) {
             char path[64];
             snprintf(path, sizeof path, "shape.splits.list[%d]", i);
-            const cJSON *it = cJSON_GetArrayItem(list, i);
+            static const char *const extra_side[] = {"side", NULL};
+            const cJSON *item = cJSON_GetArrayItem(list, i);
             plm_split *s = &sh->splits[i];
-            TRY(plm_json_check_object(r, it, path, item_keys));
-            /* Wide ranges here; plm_species_validate says what fits the vane. */
-            TRY(plm_json_number(r, it, path, "position", 0.5, -1e9, 1e9, &s->position));
-            TRY(plm_json_number(r, it, path, "depth", 0.3, -1e9, 1e9, &s->depth));
-            TRY(plm_json_enum(r, it, path, "side", sides, i % 2, &s->side));
+            char full[PLM_SPECIES_PATH_MAX];
+            *s = (plm_split){0.5, 0.3, i % 2};
+            TRY(read_block(r, item, path, &plm_split_param_block, extra_side, s));
+            TRY(plm_json_enum(&r->json, item, at(r, path, full, sizeof full), "side", sides, i % 2, &s->side));
         }
         sh->split_count = n;
         return PLM_OK;
     }
-    int count = 0, seed = 1;
-    double pos[2] = {0.3, 0.9}, depth[2] = {0.2, 0.6};
-    TRY(plm_json_int(r, obj, p, "count", 0, 0, PLM_SPLITS_MAX, &count));
-    TRY(plm_json_int(r, obj, p, "seed", 1, 0, 2147483647, &seed));
-    const char *range_keys[2] = {"positions", "depths"};
-    double *ranges[2] = {pos, depth};
-    for (int k = 0; k < 2; ++k) {
-        const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, range_keys[k]);
-        if (!a)
-            continue;
-        if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != 2 || !cJSON_IsNumber(a->child) ||
-            !cJSON_IsNumber(a->child->next) || !(a->child->valuedouble <= a->child->next->valuedouble))
-            return plm_json_fail(r, p, range_keys[k], "expected [min, max] with min <= max");
-        ranges[k][0] = a->child->valuedouble;
-        ranges[k][1] = a->child->next->valuedouble;
-    }
+    if (!(d.positions[0] <= d.positions[1]))
+        return fail(r, "shape.splits", "positions", "expected [min, max] with min <= max");
+    if (!(d.depths[0] <= d.depths[1]))
+        return fail(r, "shape.splits", "depths", "expected [min, max] with min <= max");
     plm_rng rng;
-    plm_rng_seed(&rng, (uint64_t)seed, 0x5711u);
-    for (int i = 0; i < count; ++i) {
+    plm_rng_seed(&rng, d.seed, 0x5711u);
+    for (int i = 0; i < d.count; ++i) {
         plm_split *s = &sh->splits[i];
-        s->position = pos[0] + (pos[1] - pos[0]) * plm_rng_uniform(&rng);
-        s->depth = depth[0] + (depth[1] - depth[0]) * plm_rng_uniform(&rng);
+        s->position = d.positions[0] + (d.positions[1] - d.positions[0]) * plm_rng_uniform(&rng);
+        s->depth = d.depths[0] + (d.depths[1] - d.depths[0]) * plm_rng_uniform(&rng);
         s->side = plm_rng_uniform(&rng) < 0.5 ? 0 : 1;
     }
-    sh->split_count = count;
+    sh->split_count = d.count;
     return PLM_OK;
 }
 
-static plm_result parse_pigment(const plm_json_reader *r, const cJSON *obj, plm_pigment *pg)
+static plm_result parse_shape(const species_reader *r, const cJSON *obj, plm_shape *sh)
 {
-    static const char *const keys[] = {"bands", "band_width", "tip_length", "barb_jitter", "seed", NULL};
-    const char *p = "pigment";
-    int seed = (int)pg->seed;
-    TRY(plm_json_check_object(r, obj, p, keys));
-    TRY(plm_json_int(r, obj, p, "bands", pg->band_count, 0, 200, &pg->band_count));
-    TRY(plm_json_number(r, obj, p, "band_width", pg->band_width, 0.0, 1.0, &pg->band_width));
-    TRY(plm_json_number(r, obj, p, "tip_length", pg->tip_length, 0.0, 1.0, &pg->tip_length));
-    TRY(plm_json_number(r, obj, p, "barb_jitter", pg->barb_jitter, 0.0, 1.0, &pg->barb_jitter));
-    TRY(plm_json_int(r, obj, p, "seed", seed, 0, 2147483647, &seed));
-    pg->seed = (unsigned long long)seed;
-    return PLM_OK;
-}
-
-static plm_result parse_shape(const plm_json_reader *r, const cJSON *obj, plm_shape *sh)
-{
-    static const char *const keys[] = {"length", "calamus_length", "rachis", "vane", "barbs",
-                                       "plumulaceous", "splits", NULL};
-    const char *p = "shape";
-    TRY(plm_json_check_object(r, obj, p, keys));
-    TRY(plm_json_number(r, obj, p, "length", sh->length, 1.0, 2000.0, &sh->length));
-    TRY(plm_json_number(r, obj, p, "calamus_length", sh->calamus_length, 0.0, 1000.0, &sh->calamus_length));
-    TRY(plm_json_number(r, obj, p, "plumulaceous", sh->plumulaceous, 0.0, 0.95, &sh->plumulaceous));
+    static const char *const extra[] = {"rachis", "vane", "barbs", "splits", NULL};
+    TRY(read_block(r, obj, "shape", &plm_shape_param_block, extra, sh));
     const cJSON *sub;
     if ((sub = cJSON_GetObjectItemCaseSensitive(obj, "rachis")))
-        TRY(parse_rachis(r, sub, sh));
+        TRY(read_block(r, sub, "shape.rachis", &plm_rachis_param_block, NULL, sh));
     if ((sub = cJSON_GetObjectItemCaseSensitive(obj, "vane")))
         TRY(parse_vane(r, sub, sh));
     if ((sub = cJSON_GetObjectItemCaseSensitive(obj, "barbs")))
@@ -251,34 +325,42 @@ static plm_result parse_shape(const plm_json_reader *r, const cJSON *obj, plm_sh
     return PLM_OK;
 }
 
-static plm_result parse_species(const plm_json_reader *r, const cJSON *root, plm_species *out)
+static plm_result parse_species(const species_reader *r, const cJSON *root, plm_species *out)
 {
     static const char *const keys[] = {"name", "description", "source", "shape", "pigment", "optics", NULL};
-    TRY(plm_json_check_object(r, root, "", keys));
+    char path[PLM_SPECIES_PATH_MAX];
+    at(r, "", path, sizeof path);
+    TRY(plm_json_check_object(&r->json, root, path, keys));
     const char *name = NULL;
-    TRY(plm_json_string(r, root, "", "name", "unnamed", &name));
+    TRY(plm_json_string(&r->json, root, path, "name", "unnamed", &name));
     snprintf(out->name, sizeof out->name, "%s", name);
     const cJSON *sub;
     if ((sub = cJSON_GetObjectItemCaseSensitive(root, "shape")))
         TRY(parse_shape(r, sub, &out->shape));
     if ((sub = cJSON_GetObjectItemCaseSensitive(root, "pigment")))
-        TRY(parse_pigment(r, sub, &out->pigment));
-    /* The optics block is the renderer's: scene/ reads it from the same file. */
+        TRY(read_block(r, sub, "pigment", &plm_pigment_param_block, NULL, &out->pigment));
+    /* The optics block is the renderer's: scene/ reads it from the same object. */
     if ((sub = cJSON_GetObjectItemCaseSensitive(root, "optics")) && !cJSON_IsObject(sub))
-        return plm_json_fail(r, "", "optics", "expected an object");
+        return fail(r, "", "optics", "expected an object");
     return PLM_OK;
+}
+
+plm_result plm_species_parse_at(const cJSON *root, const char *file, const char *path, plm_species *out,
+                                plm_error *err)
+{
+    species_reader r = {{file, err}, path ? path : ""};
+    plm_species_default(out);
+    plm_result rc = parse_species(&r, root, out);
+    if (rc == PLM_OK)
+        rc = plm_species_validate_at(out, file, r.prefix, err);
+    if (rc != PLM_OK)
+        plm_species_free(out);
+    return rc;
 }
 
 plm_result plm_species_parse(const cJSON *root, const char *file, plm_species *out, plm_error *err)
 {
-    plm_json_reader r = {file, err};
-    plm_species_default(out);
-    plm_result rc = parse_species(&r, root, out);
-    if (rc == PLM_OK)
-        rc = plm_species_validate(out, file, err);
-    if (rc != PLM_OK)
-        plm_species_free(out);
-    return rc;
+    return plm_species_parse_at(root, file, "", out, err);
 }
 
 plm_result plm_species_load(const char *path, plm_species *out, plm_error *err)
@@ -301,47 +383,84 @@ static double max_width(const plm_width_profile *w)
     return m;
 }
 
-plm_result plm_species_validate(const plm_species *s, const char *file, plm_error *err)
+/* Every field against its table's range (a species built in code, such as a
+ * layout's variant, has not been through the reader). */
+static plm_result check_ranges(const species_reader *r, const plm_species *s)
 {
-    plm_json_reader r = {file ? file : "(species)", err};
     const plm_shape *sh = &s->shape;
+    const struct {
+        const plm_param_block *block;
+        const void *target;
+    } blocks[] = {{&plm_shape_param_block, sh},
+                  {&plm_rachis_param_block, sh},
+                  {&plm_vane_param_block, sh},
+                  {&plm_vane_tip_param_block, sh},
+                  {&plm_barbs_param_block, sh},
+                  {&plm_barb_side_param_block, (const char *)sh + sizeof(double)},
+                  {&plm_pigment_param_block, &s->pigment}};
+    char path[PLM_SPECIES_PATH_MAX];
+    for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; ++i)
+        if (plm_params_check(blocks[i].block, blocks[i].target, r->json.err) != PLM_OK) {
+            plm_error_prefix(r->json.err, "%s: %s%s", r->json.file, at(r, "", path, sizeof path),
+                             r->prefix[0] ? ": " : "");
+            return PLM_ERR_INVALID;
+        }
+    return PLM_OK;
+}
+
+plm_result plm_species_validate_at(const plm_species *s, const char *file, const char *prefix, plm_error *err)
+{
+    species_reader sr = {{file ? file : "(species)", err}, prefix ? prefix : ""};
+    const plm_json_reader *r = &sr.json;
+    char path[PLM_SPECIES_PATH_MAX];
+    const plm_shape *sh = &s->shape;
+    TRY(check_ranges(&sr, s));
     if (!(sh->calamus_length < 0.9 * sh->length))
-        return plm_json_fail(&r, "shape", "calamus_length", "%g mm leaves no room for the vanes: it must be "
-                             "below 90%% of shape.length (%g mm)", sh->calamus_length, 0.9 * sh->length);
+        return plm_json_fail(r, at(&sr, "shape", path, sizeof path), "calamus_length", "%g mm leaves no room for "
+                             "the vanes: it must be below 90%% of shape.length (%g mm)", sh->calamus_length,
+                             0.9 * sh->length);
     if (sh->rachis_tip_width > sh->rachis_base_width)
-        return plm_json_fail(&r, "shape.rachis", "tip_width", "%g mm is wider than the base (base_width %g mm); "
-                             "the allowed range is (0, base_width]", sh->rachis_tip_width, sh->rachis_base_width);
+        return plm_json_fail(r, at(&sr, "shape.rachis", path, sizeof path), "tip_width", "%g mm is wider than the "
+                             "base (base_width %g mm); the allowed range is [0.01, base_width]", sh->rachis_tip_width,
+                             sh->rachis_base_width);
     for (int side = 0; side < 2; ++side) {
-        const char *path = side ? "shape.vane.right" : "shape.vane.left";
+        at(&sr, side ? "shape.vane.right" : "shape.vane.left", path, sizeof path);
         double w = max_width(&sh->width[side]);
         /* The vane must reach beyond the rachis, or there is nothing to render. */
         if (!(w > sh->rachis_base_width))
-            return plm_json_fail(&r, path, "width", "the widest point (%g mm) must exceed the rachis base width "
+            return plm_json_fail(r, path, "width", "the widest point (%g mm) must exceed the rachis base width "
                                  "(%g mm)", w, sh->rachis_base_width);
         if (w > 2.0 * sh->length)
-            return plm_json_fail(&r, path, "width", "the widest point (%g mm) exceeds twice the feather length "
+            return plm_json_fail(r, path, "width", "the widest point (%g mm) exceeds twice the feather length "
                                  "(%g mm)", w, 2.0 * sh->length);
     }
     double lo = fmin(fmin(sh->barb_angle_base[0], sh->barb_angle_tip[0]),
                      fmin(sh->barb_angle_base[1], sh->barb_angle_tip[1]));
     if (!(sh->barb_curvature < lo - plm_radians(2.0)))
-        return plm_json_fail(&r, "shape.barbs", "curvature", "%g degrees would turn barbs back toward the rachis: "
-                             "it must stay below the smallest barb angle minus 2 (%g degrees)",
-                             plm_degrees(sh->barb_curvature), plm_degrees(lo) - 2.0);
+        return plm_json_fail(r, at(&sr, "shape.barbs", path, sizeof path), "curvature", "%g degrees would turn "
+                             "barbs back toward the rachis: it must stay below the smallest barb angle minus 2 (%g "
+                             "degrees)", plm_degrees(sh->barb_curvature), plm_degrees(lo) - 2.0);
     for (int i = 0; i < sh->split_count; ++i) {
-        char path[64];
+        char item[64];
         const plm_split *sp = &sh->splits[i];
-        snprintf(path, sizeof path, "shape.splits[%d]", i);
-        if (!(sp->position > sh->plumulaceous && sp->position < 1.0))
-            return plm_json_fail(&r, path, "position", "%g is beyond the pennaceous vane: allowed (%g, 1), "
+        snprintf(item, sizeof item, "shape.splits.list[%d]", i);
+        at(&sr, item, path, sizeof path);
+        if (plm_params_check(&plm_split_param_block, sp, err) != PLM_OK) {
+            plm_error_prefix(err, "%s: %s: ", r->file, path);
+            return PLM_ERR_INVALID;
+        }
+        if (!(sp->position > sh->plumulaceous))
+            return plm_json_fail(r, path, "position", "%g is beyond the pennaceous vane: allowed (%g, 1), "
                                  "from the end of shape.plumulaceous to the tip", sp->position, sh->plumulaceous);
-        if (!(sp->depth > 0.0 && sp->depth <= 1.0))
-            return plm_json_fail(&r, path, "depth", "%g is beyond the vane: allowed (0, 1], a fraction of the "
-                                 "vane width", sp->depth);
     }
     /* What only the barb field can tell: barbs that would fold over. */
     plm_outline o;
-    return plm_outline_init(&o, sh, r.file, err);
+    return plm_outline_init(&o, sh, r->file, err);
+}
+
+plm_result plm_species_validate(const plm_species *s, const char *file, plm_error *err)
+{
+    return plm_species_validate_at(s, file, "", err);
 }
 
 void plm_species_free(plm_species *s)

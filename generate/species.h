@@ -15,11 +15,15 @@
 #define PLUMAGE_GENERATE_SPECIES_H
 
 #include <cjson/cJSON.h>
+#include <stdint.h>
 
 #include "common/error.h"
+#include "common/params.h"
 
 #define PLM_WIDTH_POINTS_MAX 16
 #define PLM_SPLITS_MAX 32
+#define PLM_WIDTH_MAX_MM 500.0 /* a vane width control point */
+#define PLM_SPECIES_PATH_MAX 256 /* a field path in messages, with an inline species' prefix */
 
 typedef enum plm_tip_shape {
     PLM_TIP_ROUNDED = 0, /* an elliptical end: width ~ sqrt(1 - tau^2) */
@@ -73,7 +77,7 @@ typedef struct plm_pigment {
     double band_width;   /* fraction of the band period that is dark */
     double tip_length;   /* fraction of the vaned length coloured as the tip */
     double barb_jitter;  /* 0..1: amplitude of per-barb variation */
-    unsigned long long seed;
+    uint64_t seed;
 } plm_pigment;
 
 typedef struct plm_species {
@@ -82,16 +86,43 @@ typedef struct plm_species {
     plm_pigment pigment;
 } plm_species;
 
+/* The drawn form of the "splits" block, before the splits are drawn. */
+typedef struct plm_split_draw {
+    int count;
+    uint64_t seed;
+    double positions[2], depths[2]; /* [min, max] */
+    double gap;                     /* mm: becomes plm_shape.split_gap */
+} plm_split_draw;
+
+void plm_split_draw_default(plm_split_draw *d);
+
+/* One parameter table per block of the species file (common/params.h), the
+ * one place their ranges are written; docs/species.md prints them. */
+extern const plm_param_block plm_shape_param_block;     /* plm_shape: length, calamus, plumulaceous */
+extern const plm_param_block plm_rachis_param_block;    /* plm_shape */
+extern const plm_param_block plm_vane_param_block;      /* plm_shape */
+extern const plm_param_block plm_vane_tip_param_block;  /* plm_shape */
+extern const plm_param_block plm_barbs_param_block;     /* plm_shape */
+extern const plm_param_block plm_barb_side_param_block; /* plm_shape, offset by one double for the right side */
+extern const plm_param_block plm_splits_param_block;    /* plm_split_draw */
+extern const plm_param_block plm_split_param_block;     /* plm_split */
+extern const plm_param_block plm_pigment_param_block;   /* plm_pigment */
+
 /* The defaults of every field (a generic contour feather). */
 void plm_species_default(plm_species *s);
 
 /* Parses and validates a preset. Errors name the file and field path. */
 plm_result plm_species_load(const char *path, plm_species *out, plm_error *err);
 plm_result plm_species_parse(const cJSON *root, const char *file, plm_species *out, plm_error *err);
+/* The same for a species inside another file (a scene's inline species):
+ * `path` is where it lies, and prefixes every field path in messages. */
+plm_result plm_species_parse_at(const cJSON *root, const char *file, const char *path, plm_species *out,
+                                plm_error *err);
 
 /* Checks the relations between fields that single ranges cannot express
  * (tip no wider than base, splits inside the vane, barbs that stay barbs). */
 plm_result plm_species_validate(const plm_species *s, const char *file, plm_error *err);
+plm_result plm_species_validate_at(const plm_species *s, const char *file, const char *path, plm_error *err);
 
 /* Releases what parsing allocated (today nothing) and zeroes the struct. */
 void plm_species_free(plm_species *s);

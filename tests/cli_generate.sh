@@ -77,9 +77,9 @@ bad negative_width 'shape\.vane\.left\.width\[1\].*out of range' \
     '{"shape": {"vane": {"left": {"width": [[0, 5], [0.5, -2], [1, 3]]}}}}'
 bad wide_rachis_tip 'shape\.rachis\.tip_width.*wider than the base' \
     '{"shape": {"rachis": {"base_width": 1, "tip_width": 3}}}'
-bad split_beyond 'shape\.splits\[0\]\.position.*beyond' \
+bad split_beyond 'shape\.splits\.list\[0\]\.position.*out of range' \
     '{"shape": {"splits": {"list": [{"position": 1.4, "depth": 0.3}]}}}'
-bad split_too_deep 'shape\.splits\[0\]\.depth.*beyond' \
+bad split_too_deep 'shape\.splits\.list\[0\]\.depth.*out of range' \
     '{"shape": {"splits": {"list": [{"position": 0.6, "depth": 2}]}}}'
 bad unknown_field 'shape\.rachis\.colour.*unknown field' '{"shape": {"rachis": {"colour": 1}}}'
 bad tip_shape 'shape\.vane\.tip\.shape' '{"shape": {"vane": {"tip": {"shape": "square"}}}}'

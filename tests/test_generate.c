@@ -66,11 +66,11 @@ static void species_errors_name_the_field(void **state)
     expect_error("{\"shape\": {\"rachis\": {\"base_width\": 1, \"tip_width\": 2}}}", "shape.rachis.tip_width");
     expect_error("{\"shape\": {\"rachis\": {\"base_width\": -1}}}", "shape.rachis.base_width");
     expect_error("{\"shape\": {\"splits\": {\"list\": [{\"position\": 1.2, \"depth\": 0.3}]}}}",
-                 "shape.splits[0].position");
+                 "shape.splits.list[0].position");
     expect_error("{\"shape\": {\"splits\": {\"list\": [{\"position\": 0.6, \"depth\": 1.5}]}}}",
-                 "shape.splits[0].depth");
+                 "shape.splits.list[0].depth");
     expect_error("{\"shape\": {\"plumulaceous\": 0.5, \"splits\": {\"list\": [{\"position\": 0.4}]}}}",
-                 "shape.splits[0].position");
+                 "shape.splits.list[0].position");
     expect_error("{\"shape\": {\"vane\": {\"right\": {\"width\": [[0, 5], [0.7, 5], [0.6, 3]]}}}}",
                  "shape.vane.right.width[2]");
     expect_error("{\"shape\": {\"vane\": {\"tip\": {\"shape\": \"square\"}}}}", "shape.vane.tip.shape");
