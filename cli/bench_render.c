@@ -89,7 +89,7 @@ static int add_vane_quad(plm_scene *s, plm_tile_feather *p, plm_error *err)
 static int add_species(plm_scene *s, const char *species, plm_tile_feather *p, plm_error *err)
 {
     plm_feather_cache cache = {0};
-    plm_feather_request q = {species, 3, 1024, 0, 0, NULL, NULL};
+    plm_feather_request q = {species, 3, 1024, 0, 0, NULL, NULL, NULL, NULL};
     plm_feather_parts parts;
     plm_result rc = plm_feather_cache_get(&cache, s, "f", &q, &parts, err);
     plm_feather_cache_free(&cache);

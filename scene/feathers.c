@@ -16,6 +16,7 @@
 
 struct plm_feather_cache_entry {
     char species[PLM_PATH_MAX];
+    char inline_path[PLM_SPECIES_PATH_MAX]; /* "" for a species file */
     int level, texture_size, variant, given_shape;
     uint64_t seed;
     plm_feather_parts parts;
@@ -35,30 +36,38 @@ static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm
     for (int i = 0; i < c->count; ++i) {
         const plm_feather_cache_entry *e = &c->entries[i];
         if (e->level == q->level && e->texture_size == q->texture_size && e->variant == q->variant &&
-            e->seed == q->seed && e->given_shape == (q->shape != NULL) && strcmp(e->species, q->species) == 0)
+            e->seed == q->seed && e->given_shape == (q->shape != NULL) && strcmp(e->species, q->species) == 0 &&
+            strcmp(e->inline_path, q->inline_species ? q->inline_path : "") == 0)
             return e;
     }
     return NULL;
 }
 
-/* The species file parsed twice over: its shape and pigment by generate/,
- * its optics block (which generate/ does not keep) into the feather material. */
-static plm_result read_species(const char *file, plm_species *species, plm_material *feather, cJSON **optics_out,
-                               plm_error *err)
+/* The species parsed twice over: its shape and pigment by generate/, its
+ * optics block (which generate/ does not keep) into the feather material.
+ * A species file, or one inline in another file (then messages give its path there). */
+static plm_result read_species(const plm_feather_request *q, plm_species *species, plm_material *feather,
+                               cJSON **optics_out, plm_error *err)
 {
     static const char *const optics_keys[] = {"barb", "barbule", "masking", NULL};
     cJSON *root = NULL;
-    plm_result rc = plm_json_load(file, &root, err);
+    const char *at = q->inline_species ? q->inline_path : "";
+    plm_result rc = q->inline_species ? ((root = cJSON_Duplicate(q->inline_species, 1))
+                                             ? PLM_OK
+                                             : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory"))
+                                      : plm_json_load(q->species, &root, err);
     if (rc != PLM_OK)
         return rc;
-    rc = plm_species_parse(root, file, species, err);
+    rc = plm_species_parse_at(root, q->species, at, species, err);
     if (rc == PLM_OK) {
         /* No optics block: an empty one, which means every default. */
         const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
         if (!optics)
             optics = cJSON_AddObjectToObject(root, "optics");
-        plm_json_reader r = {file, err};
-        rc = optics ? plm_feather_optics_read(&r, optics, "optics", optics_keys, feather)
+        plm_json_reader r = {q->species, err};
+        char path[PLM_SPECIES_PATH_MAX];
+        snprintf(path, sizeof path, "%s%soptics", at, at[0] ? "." : "");
+        rc = optics ? plm_feather_optics_read(&r, optics, path, optics_keys, feather)
                     : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
         if (rc == PLM_OK && !(*optics_out = cJSON_Duplicate(optics, 1)))
             rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
@@ -102,7 +111,7 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
     plm_material feather, rachis;
     memset(&feather, 0, sizeof feather);
     memset(&rachis, 0, sizeof rachis);
-    plm_result rc = read_species(q->species, &species, &feather, optics, err);
+    plm_result rc = read_species(q, &species, &feather, optics, err);
     if (rc != PLM_OK)
         return rc;
     /* Variants (and species) that differ in shape and pigment but not in
@@ -167,6 +176,9 @@ plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, con
     normalise(&q);
     if (strlen(q.species) >= PLM_PATH_MAX)
         return plm_fail(err, PLM_ERR_INVALID, "species path is longer than %d characters", PLM_PATH_MAX - 1);
+    if (q.inline_species && strlen(q.inline_path) >= PLM_SPECIES_PATH_MAX)
+        return plm_fail(err, PLM_ERR_INVALID, "field path %.40s... is longer than %d characters", q.inline_path,
+                        PLM_SPECIES_PATH_MAX - 1);
     const plm_feather_cache_entry *hit = find(cache, &q);
     if (hit) {
         *out = hit->parts;
@@ -189,6 +201,7 @@ plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, con
     }
     plm_feather_cache_entry *e = &cache->entries[cache->count++];
     snprintf(e->species, sizeof e->species, "%s", q.species);
+    snprintf(e->inline_path, sizeof e->inline_path, "%s", q.inline_species ? q.inline_path : "");
     e->level = q.level;
     e->texture_size = q.texture_size;
     e->variant = q.variant;

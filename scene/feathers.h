@@ -10,6 +10,8 @@
 
 #include <stdint.h>
 
+#include <cjson/cJSON.h>
+
 #include "common/error.h"
 #include "generate/species.h"
 #include "render/scene.h"
@@ -27,13 +29,15 @@ typedef struct plm_feather_parts {
  * that shape and pigment (a layout's prototype; then (variant, seed) must
  * identify it among the requests of one cache). */
 typedef struct plm_feather_request {
-    const char *species; /* a species preset file */
+    const char *species; /* a species preset file, or the file holding inline_species */
     int level;           /* subdivision level 1..6; 0 = the default */
     int texture_size;    /* 16..8192; 0 = 1024 */
     int variant;         /* 0 = the species as written */
     uint64_t seed;
     const plm_shape *shape;     /* NULL, or the shape to generate */
     const plm_pigment *pigment; /* with shape */
+    const cJSON *inline_species; /* NULL, or the species object itself (a scene's inline species) */
+    const char *inline_path;     /* with inline_species: its field path in `species`, e.g. "feathers.f.species" */
 } plm_feather_request;
 
 typedef struct plm_feather_cache_entry plm_feather_cache_entry;

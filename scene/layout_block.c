@@ -246,7 +246,7 @@ static plm_result place(const plm_json_reader *r, const char *path, const plm_la
         char name[PLM_NAME_MAX];
         snprintf(name, sizeof name, "layout%d.%d", ordinal, k);
         plm_feather_request q = {sl->file[pr->species], level, texture_size, k + 1,
-                                 plm_hash64(seed, (uint64_t)ordinal, 0x1a70u), &pr->shape, &pr->pigment};
+                                 plm_hash64(seed, (uint64_t)ordinal, 0x1a70u), &pr->shape, &pr->pigment, NULL, NULL};
         if ((rc = plm_feather_cache_get(cache, scene, name, &q, &parts[k], r->err)) != PLM_OK)
             plm_error_prefix(r->err, "%s: %s: ", r->file, path);
     }

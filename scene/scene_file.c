@@ -588,17 +588,25 @@ static plm_result add_named_feather(loader *ld, const char *name, const plm_feat
     return PLM_OK;
 }
 
-/* {"species": file, "level", "texture_size", "variant"}: generated once per
- * distinct (species, level, texture size, variant), however many names ask. */
+/* {"species": file or the species itself, "level", "texture_size", "variant"}:
+ * generated once per distinct (species, level, texture size, variant), however many names ask. */
 static plm_result read_species_feather(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path,
                                const char *name)
 {
     static const char *const keys[] = {"species", "level", "texture_size", "variant", NULL};
-    char species_file[PLM_PATH_MAX];
-    plm_feather_request q = {species_file, PLM_FEATHER_DEFAULT_LEVEL, PLM_TEXTURE_DEFAULT_SIZE, 0, 0, NULL, NULL};
+    char species_file[PLM_PATH_MAX], inline_path[PLM_SPECIES_PATH_MAX];
+    plm_feather_request q = {species_file, PLM_FEATHER_DEFAULT_LEVEL, PLM_TEXTURE_DEFAULT_SIZE, 0, 0, NULL, NULL,
+                             NULL, inline_path};
+    const cJSON *inline_species = cJSON_GetObjectItemCaseSensitive(obj, "species");
     plm_result rc = plm_json_check_object(r, obj, path, keys);
-    if (rc == PLM_OK)
+    if (rc == PLM_OK && cJSON_IsObject(inline_species)) {
+        /* The species written out here: its messages name this file and path. */
+        q.inline_species = inline_species;
+        snprintf(species_file, sizeof species_file, "%s", r->file);
+        snprintf(inline_path, sizeof inline_path, "%s.species", path);
+    } else if (rc == PLM_OK) {
         rc = plm_scene_read_path(r, obj, path, "species", 1, species_file);
+    }
     if (rc == PLM_OK)
         rc = plm_json_int(r, obj, path, "level", q.level, 1, 6, &q.level);
     if (rc == PLM_OK)
@@ -610,7 +618,8 @@ static plm_result read_species_feather(loader *ld, const plm_json_reader *r, con
     plm_feather_parts parts;
     /* Whatever fails (reading, optics, generation) comes from the species named here. */
     if ((rc = plm_feather_cache_get(&ld->cache, ld->scene, name, &q, &parts, r->err)) != PLM_OK) {
-        plm_error_prefix(r->err, "%s: %s.species: ", r->file, path);
+        if (!q.inline_species)
+            plm_error_prefix(r->err, "%s: %s.species: ", r->file, path);
         return rc;
     }
     return add_named_feather(ld, name, &parts);

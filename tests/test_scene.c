@@ -15,6 +15,7 @@
 
 #include "common/fileio.h"
 #include "common/image_io.h"
+#include "generate/species.h"
 #include "render/feather_bsdf.h"
 #include "render/scene.h"
 #include "scene/scene_file.h"
@@ -311,6 +312,41 @@ static void species_feathers_are_generated_once(void **state)
     assert_non_null(strstr(err.message, "no_such_species.json"));
 }
 
+/* A species field has one range wherever it enters: a species file, a
+ * species written inline in a scene, or --set on that inline species. The
+ * range expected is the table's own (plm_shape_param_block's length). */
+static void species_fields_have_one_range_everywhere(void **state)
+{
+    (void)state;
+    const plm_param *length = &plm_shape_param_block.params[0];
+    assert_string_equal(length->name, "length");
+    char range[64], text[512], path[512];
+    snprintf(range, sizeof range, "[%.10g, %.10g]", length->min, length->max);
+    write_file("long.json", "{\"shape\": {\"length\": 5000}}");
+    expect_error("{\"feathers\": {\"f\": {\"species\": \"long.json\"}}}",
+                 (const char *const[]){"long.json", "shape.length", "5000", range, NULL});
+    expect_error("{\"feathers\": {\"f\": {\"species\": {\"shape\": {\"length\": 5000}}}}}",
+                 (const char *const[]){"bad.json", "feathers.f.species.shape.length", "5000", range, NULL});
+    /* The inline species' optics are read like a file's, with their path. */
+    expect_error("{\"feathers\": {\"f\": {\"species\": {\"optics\": {\"barb\": {\"eta\": 9}}}}}}",
+                 (const char *const[]){"bad.json", "feathers.f.species.optics.barb.eta", NULL});
+    /* A valid inline species is generated, and --set reaches into it. */
+    snprintf(text, sizeof text, "{\"feathers\": {\"f\": {\"species\": {\"shape\": {\"length\": 30}}, \"level\": 1, "
+                                "\"texture_size\": 32}}, \"objects\": [{\"feather\": \"f\"}]}");
+    write_file("inline.json", text);
+    snprintf(path, sizeof path, "%s/inline.json", dir);
+    plm_scene s;
+    plm_error err = {{0}};
+    assert_int_equal(plm_scene_load(path, &s, &err), PLM_OK);
+    assert_int_equal(s.instance_count, 2);
+    plm_scene_free(&s);
+    const char *set[] = {"feathers.f.species.shape.length=5000"};
+    assert_int_not_equal(plm_scene_load_with(path, set, 1, &s, &err), PLM_OK);
+    assert_non_null(strstr(err.message, "inline.json"));
+    assert_non_null(strstr(err.message, "feathers.f.species.shape.length"));
+    assert_non_null(strstr(err.message, range));
+}
+
 /* A pelt block places count feathers (vane and rachis each) from a few
  * prototypes generated once, plus its surface; the same seed gives the same
  * scene, another seed another; a species without optics takes the defaults. */
@@ -407,6 +443,7 @@ int main(void)
         cmocka_unit_test(errors_name_file_field_and_allowed_values),
         cmocka_unit_test(buffer_reads_like_a_file),
         cmocka_unit_test(species_feathers_are_generated_once),
+        cmocka_unit_test(species_fields_have_one_range_everywhere),
         cmocka_unit_test(layout_blocks_place_generated_prototypes),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
