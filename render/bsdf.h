@@ -30,10 +30,18 @@ typedef struct plm_hit {
     vec2 uv;
     rgb tint;        /* per-instance colour variation */
     const plm_material *material;
+    /* The pixel cone that found the hit: its width at p (world units;
+     * INFINITY after a scattering event or with film.far_field) and the ray
+     * direction. */
+    double cone_width;
+    vec3 ray_dir;
     /* Set by plm_material_surface: whether the hit lies on a feather's vane,
      * and there the barb frame (x = b, y = n, z = t; docs/masking.md). */
     int on_vane;
     frame barb;
+    /* On a vane, the part of the barb period the pixel covers (a whole
+     * period: the far field; docs/nearfield.md). */
+    plm_barb_window window;
     /* Set by plm_material_transmission_keep: the feather's masking for the
      * view direction masking_w, which the BSDF reuses when wo is the same. */
     int has_masking;

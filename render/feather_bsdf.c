@@ -83,16 +83,17 @@ int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, fram
     return 1;
 }
 
-void plm_feather_masking(const plm_feather_params *p, const frame *barb, vec3 w, plm_masking *out)
+void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
+                         plm_masking *out)
 {
     assert(masking_is_prepared(p));
-    plm_masking_eval_prepared(&p->masking_model, frame_to_local(barb, w), out);
+    plm_masking_eval_window(&p->masking_model, frame_to_local(barb, w), window, out);
 }
 
 double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w)
 {
     plm_masking m;
-    plm_feather_masking(p, barb, w, &m);
+    plm_feather_masking(p, barb, NULL, w, &m);
     return m.w_transmission;
 }
 
@@ -111,7 +112,7 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
     if (masking)
         *m = *masking;
     else
-        plm_feather_masking(p, barb, wo, m);
+        plm_feather_masking(p, barb, NULL, wo, m);
     const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
     out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
     for (int k = 0; k < 2; ++k) {
@@ -127,7 +128,7 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
     for (int k = 0; k < 3; ++k)
         out->weight[k] = opaque > 1e-12 ? w[k] / opaque : 0.0;
 
-    /* The barb is seen through up to five h-ranges of different rates: one
+    /* The barb is seen through up to six h-ranges of different rates: one
      * range, chosen by rate, is a one-sample estimate of their weighted sum. */
     plm_h_range barb_range = {-1.0, 1.0, 0.0};
     double u = plm_rng_uniform(rng) * m->w_barb;

@@ -71,12 +71,15 @@ typedef struct plm_feather_bsdf {
     rgb tint;
 } plm_feather_bsdf;
 
-/* The masking seen from w (world space, the barb frame as above). */
-void plm_feather_masking(const plm_feather_params *p, const frame *barb, vec3 w, plm_masking *out);
-/* Its weight of the straight-through event for a ray leaving toward w (the view side). */
+/* The masking seen from w (world space, the barb frame as above) over the
+ * part of the barb period a pixel covers (docs/nearfield.md), NULL for the
+ * far field. */
+void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
+                         plm_masking *out);
+/* Far field: its weight of the straight-through event for a ray leaving toward w (the view side). */
 double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w);
 
-/* Prepares for wo (world space): the masking, then a lobe set per fiber from
+/* Prepares for wo (world space): the far-field masking, then a lobe set per fiber from
  * rng (the barb's h-range chosen among the masking's ranges by their rates). */
 void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
                          plm_feather_bsdf *out);

@@ -11,6 +11,7 @@ plm_result plm_feather_texture_from_pixels(int width, int height, float *pixels,
     out->width = width;
     out->height = height;
     out->pixels = pixels;
+    out->barb = NULL;
     out->region = malloc((size_t)width * (size_t)height);
     if (!out->region) {
         free(pixels);
@@ -34,20 +35,35 @@ plm_result plm_feather_texture_read(const char *path, plm_feather_texture *out, 
         return plm_fail(err, PLM_ERR_INVALID,
                         "%s: a feather texture needs 3 channels (cos, sin, region), this image has %d", path, c);
     }
-    if (c > 3) { /* keep the first three channels */
-        for (long i = 0; i < (long)w * h; ++i)
+    float *barb = NULL;
+    if (plm_ftex_has_barb(c) && !(barb = malloc(sizeof *barb * (size_t)w * (size_t)h))) {
+        free(pixels);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory for a %dx%d barb coordinate", path, w, h);
+    }
+    if (c > 3) { /* the first three channels, and the coordinate apart */
+        for (long i = 0; i < (long)w * h; ++i) {
+            if (barb)
+                barb[i] = pixels[(long)c * i + PLM_FTEX_BARB];
             for (int k = 0; k < 3; ++k)
                 pixels[3 * i + k] = pixels[(long)c * i + k];
+        }
     }
-    return plm_feather_texture_from_pixels(w, h, pixels, out, err);
+    rc = plm_feather_texture_from_pixels(w, h, pixels, out, err);
+    if (rc == PLM_OK)
+        out->barb = barb;
+    else
+        free(barb);
+    return rc;
 }
 
 void plm_feather_texture_free(plm_feather_texture *t)
 {
     free(t->pixels);
     free(t->region);
+    free(t->barb);
     t->pixels = NULL;
     t->region = NULL;
+    t->barb = NULL;
 }
 
 /* Continuous texel coordinates of uv: texel centres sit at integers. */
@@ -69,7 +85,7 @@ static long texel_index(const plm_feather_texture *t, long x, long y)
 
 long plm_texel_nearest(int width, int height, vec2 uv)
 {
-    plm_feather_texture t = {width, height, NULL, NULL};
+    plm_feather_texture t = {width, height, NULL, NULL, NULL};
     double x, y;
     texel_coords(&t, uv, &x, &y);
     return texel_index(&t, nearest(x), nearest(y));
@@ -110,4 +126,57 @@ vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
     vec2 d = texel_direction(t, centre);
     len = v2_length(d);
     return len > 1e-6 ? v2_scale(d, 1.0 / len) : v2(0.0, 1.0);
+}
+
+/* Texel (x, y)'s coordinate unwrapped to within half a period of ref, and
+ * whether it lies in the region. */
+static int barb_texel(const plm_feather_texture *t, long x, long y, unsigned char region, double ref, double *c)
+{
+    if (x < 0 || y < 0 || x >= t->width || y >= t->height)
+        return 0;
+    long i = y * t->width + x;
+    *c = plm_ftex_barb_unwrap(t->barb[i], ref);
+    return t->region[i] == region;
+}
+
+/* The coordinate's change per texel along (sx, sy) at texel (x, y): central
+ * where both neighbours share its region, one-sided where one does. */
+static double barb_difference(const plm_feather_texture *t, long x, long y, int sx, int sy, double ref)
+{
+    unsigned char region = t->region[y * t->width + x];
+    double plus, minus;
+    int has_plus = barb_texel(t, x + sx, y + sy, region, ref, &plus);
+    int has_minus = barb_texel(t, x - sx, y - sy, region, ref, &minus);
+    if (has_plus && has_minus)
+        return 0.5 * (plus - minus);
+    return has_plus ? plus - ref : (has_minus ? ref - minus : 0.0);
+}
+
+int plm_feather_texture_barb(const plm_feather_texture *t, vec2 uv, plm_barb_sample *out)
+{
+    if (!t->barb)
+        return 0;
+    double x, y;
+    texel_coords(t, uv, &x, &y);
+    long cx = nearest(x), cy = nearest(y);
+    cx = cx >= t->width ? t->width - 1 : cx;
+    cy = cy >= t->height ? t->height - 1 : cy;
+    long centre = cy * t->width + cx;
+    double ref = t->barb[centre];
+    long x0 = (long)floor(x), y0 = (long)floor(y);
+    double fx = x - x0, fy = y - y0, sum = 0.0, weight = 0.0;
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            double c, w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
+            if (barb_texel(t, x0 + dx, y0 + dy, t->region[centre], ref, &c)) {
+                sum += w * c;
+                weight += w;
+            }
+        }
+    out->coordinate = weight > 0.0 ? sum / weight : ref;
+    double gx = barb_difference(t, cx, cy, 1, 0, ref), gy = barb_difference(t, cx, cy, 0, 1, ref);
+    out->texel_step = fmax(fabs(gx), fabs(gy));
+    /* x grows with u, y against v (top row first). */
+    out->gradient = v2(gx * t->width, -gy * t->height);
+    return 1;
 }

@@ -12,12 +12,13 @@ typedef struct segment {
 
 /* Follows o + t d until it scatters off a surface, hits an area light or
  * escapes; surfaces it meets are passed with their transmission probability. */
-static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, plm_rng *rng, segment *seg, long long *rays)
+static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, double spread, plm_rng *rng, segment *seg,
+                                 long long *rays)
 {
     uint64_t seed = ((uint64_t)plm_rng_u32(rng) << 32) | plm_rng_u32(rng);
     double t_surface = INFINITY, t;
     ++*rays;
-    int surface = plm_world_intersect_passing(w, o, d, INFINITY, seed, &t_surface, &seg->hit);
+    int surface = plm_world_intersect_passing(w, o, d, INFINITY, seed, spread, &t_surface, &seg->hit);
     int light = -1;
     for (int i = 0; i < w->light_count; ++i) {
         rgb le;
@@ -97,7 +98,8 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
     segment seg;
     plm_bsdf bsdf;
     for (int depth = 0;; ++depth) {
-        segment_end end = trace_segment(w, o, d, rng, &seg, rays);
+        /* Camera rays carry the pixel cone (near-field shading); after a scattering event it is lost. */
+        segment_end end = trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, rng, &seg, rays);
         if (end == END_LIGHT) {
             rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est);
             radiance = rgb_add(radiance, rgb_mul(beta, le));

@@ -316,26 +316,55 @@ static barb_view barb_view_make(const plm_barb_geometry *g, double t_proximal, d
     return v;
 }
 
-static void barb_eval(const plm_barb_geometry *g, double t_proximal, double t_distal, vec2 d, plm_barb_masking *out)
+/* What the rays entering the vane's mid-plane over a window of the period
+ * see (docs/nearfield.md): NULL is a whole period, the far field. The
+ * window [sa, sb] along u is cut where a ray grazes a barb's silhouette
+ * (its tangent points, Eq. 5) or passes a segment end (the roots and the
+ * ridge corner); between those cuts every ray meets the same things in the
+ * same order, so one ray per piece decides it. A whole period has five such
+ * pieces, a shorter window at most six (a class cut at both ends). */
+static void barb_eval(const plm_barb_geometry *g, double t_proximal, double t_distal, vec2 d,
+                      const plm_barb_window *window, plm_barb_masking *out)
 {
     barb_view v = barb_view_make(g, t_proximal, t_distal, d);
-    /* Visibility changes only where a ray grazes a barb's silhouette (its
-     * tangent points, Eq. 5) or passes a segment end (the roots and the ridge
-     * corner); between those, every ray of the period meets the same things in
-     * the same order, so one ray per class decides the class. */
     double period = fabs(v.dy), inv_period = fabs(v.inv_dy);
     double b[5] = {wrap(-v.half_width, period, inv_period), wrap(v.half_width, period, inv_period),
                    wrap(v.distal.s0, period, inv_period), wrap(v.proximal.s0, period, inv_period),
                    wrap(v.distal.s1, period, inv_period)};
     sort5(b);
+    double cut[2 + 2 * 5];
+    int n = 0;
+    if (!window || !(window->x1 - window->x0 < 1.0)) {
+        for (int i = 0; i < 5; ++i)
+            cut[n++] = b[i];
+        cut[n++] = b[0] + period;
+    } else {
+        /* The point (x, 0) of the mid-plane lies on the ray at s = x d_y. */
+        double sa = window->x0 * v.dy, sb = window->x1 * v.dy;
+        if (sa > sb) {
+            double tmp = sa;
+            sa = sb;
+            sb = tmp;
+        }
+        double base = period * floor(sa * inv_period);
+        cut[n++] = sa;
+        for (int k = 0; k < 2; ++k)
+            for (int i = 0; i < 5; ++i) {
+                double c = base + k * period + b[i];
+                if (c > sa && c < sb)
+                    cut[n++] = c;
+            }
+        cut[n++] = sb;
+    }
+    double inv_width = 1.0 / (cut[n - 1] - cut[0]);
 
     out->w_barb = out->w_proximal = out->w_distal = out->w_transmission = 0.0;
     out->barb_range_count = 0;
     double thr[PLM_MASKING_MAX_BARB_RANGES];
     double inv_half_width = 1.0 / v.half_width;
-    for (int i = 0; i < 5; ++i) {
-        double s0 = b[i], s1 = i < 4 ? b[i + 1] : b[0] + period;
-        double len = (s1 - s0) * inv_period;
+    for (int i = 0; i + 1 < n; ++i) {
+        double s0 = cut[i], s1 = cut[i + 1];
+        double len = (s1 - s0) * inv_width;
         if (!(len > 1e-13))
             continue;
         ray_result r = trace_ray(&v, 0.5 * (s0 + s1));
@@ -358,7 +387,7 @@ void plm_masking_barb(double barb_eccentricity, double barbule_length, double ba
                       double t_proximal, double t_distal, vec2 d, plm_barb_masking *out)
 {
     plm_barb_geometry g = barb_geometry(barb_eccentricity, barbule_length, barbule_inclination);
-    barb_eval(&g, t_proximal, t_distal, d, out);
+    barb_eval(&g, t_proximal, t_distal, d, NULL, out);
 }
 
 /* ---------------------------------------------------------------- full masking */
@@ -390,12 +419,18 @@ void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model)
 
 void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo, plm_masking *out)
 {
+    plm_masking_eval_window(model, wo, NULL, out);
+}
+
+void plm_masking_eval_window(const plm_masking_model *model, vec3 wo, const plm_barb_window *window,
+                             plm_masking *out)
+{
     plm_barbule_masking mp, md;
     double e_bb = model->params.barbule_eccentricity, delta_bb = model->params.barbule_separation;
     plm_masking_barbule(e_bb, delta_bb, v2(v3_dot(wo, model->proximal.e2), v3_dot(wo, model->proximal.e3)), &mp);
     plm_masking_barbule(e_bb, delta_bb, v2(v3_dot(wo, model->distal.e2), v3_dot(wo, model->distal.e3)), &md);
     plm_barb_masking mb;
-    barb_eval(&model->barb, mp.transmittance, md.transmittance, v2(wo.x, wo.y), &mb);
+    barb_eval(&model->barb, mp.transmittance, md.transmittance, v2(wo.x, wo.y), window, &mb);
     out->w_barb = mb.w_barb;
     out->w_proximal = mb.w_proximal;
     out->w_distal = mb.w_distal;

@@ -56,8 +56,9 @@ typedef struct plm_h_range {
 } plm_h_range;
 
 /* Each barb range comes from one class of view rays with the same barbule
- * layers in front; there are at most five classes per period. */
-#define PLM_MASKING_MAX_BARB_RANGES 5
+ * layers in front; there are at most five classes per period, and a window
+ * shorter than a period (plm_masking_eval_window) may cut one class twice. */
+#define PLM_MASKING_MAX_BARB_RANGES 6
 
 typedef struct plm_masking {
     double w_barb, w_proximal, w_distal, w_transmission; /* sum to 1, all >= 0 */
@@ -86,6 +87,23 @@ typedef struct plm_masking_model {
 } plm_masking_model;
 void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model);
 void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo_barb_frame, plm_masking *out);
+
+/* Near field (docs/nearfield.md): where rays enter the vane's mid-plane,
+ * across the barb period, as x in barb periods along b (barb j centred at
+ * x = j, its cell [j - w, j + 1 - w)); the window [x0, x1] is the part of the
+ * period a pixel covers. */
+typedef struct plm_barb_window {
+    double x0, x1;
+} plm_barb_window;
+
+/* The masking of the rays entering over the window, as fractions of it: the
+ * same classes, weights and h-ranges as the far field, cut to the window. A
+ * window of a period or more (or NULL) is the far field exactly, so averaged
+ * over positions the near field equals the far field; a narrow window is one
+ * ray's answer: the barb at (nearly) one h, a barbule layer with its
+ * statistical transmittance, or the gap. */
+void plm_masking_eval_window(const plm_masking_model *model, vec3 wo_barb_frame, const plm_barb_window *window,
+                             plm_masking *out);
 
 /* ---- the two levels on their own (used by the full masking, the probe and tests) ---- */
 

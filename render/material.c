@@ -2,6 +2,7 @@
  * (render/feather_bsdf.c) dispatched to by type. */
 #include "render/bsdf.h"
 #include "render/feather_bsdf.h"
+#include "render/nearfield.h"
 #include "render/sampling.h"
 
 _Static_assert(sizeof(plm_feather_bsdf) <= PLM_BSDF_STATE_BYTES, "plm_bsdf.state must hold a feather BSDF");
@@ -80,6 +81,7 @@ void plm_material_surface(plm_hit *hit)
         return;
     vec2 dir = plm_feather_texture_direction(&m->texture, hit->uv);
     hit->on_vane = plm_feather_barb_frame(hit->n, hit->dpdu, hit->dpdv, dir, &hit->barb);
+    hit->window = plm_nearfield_at(&m->texture, hit->uv, hit->dpdu, hit->dpdv, hit->n, hit->ray_dir, hit->cone_width);
     if (hit->on_vane && m->pigment.pixels)
         hit->tint = rgb_mul(hit->tint, pigment_factor(m, hit->uv));
 }
@@ -89,7 +91,11 @@ double plm_material_transmission(const plm_hit *hit, vec3 w)
     const plm_material *m = hit->material;
     if (m->type == PLM_MATERIAL_DIFFUSE)
         return m->transmission;
-    return hit->on_vane ? plm_feather_transmission(m->feather, &hit->barb, w) : 0.0;
+    if (!hit->on_vane)
+        return 0.0;
+    plm_masking masking;
+    plm_feather_masking(m->feather, &hit->barb, &hit->window, w, &masking);
+    return masking.w_transmission;
 }
 
 double plm_material_transmission_keep(plm_hit *hit, vec3 w)
@@ -97,7 +103,7 @@ double plm_material_transmission_keep(plm_hit *hit, vec3 w)
     const plm_material *m = hit->material;
     if (m->type != PLM_MATERIAL_FEATHER || !hit->on_vane)
         return plm_material_transmission(hit, w);
-    plm_feather_masking(m->feather, &hit->barb, w, &hit->masking);
+    plm_feather_masking(m->feather, &hit->barb, &hit->window, w, &hit->masking);
     hit->has_masking = 1;
     hit->masking_w = w;
     return hit->masking.w_transmission;
@@ -111,7 +117,10 @@ void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
     if (hit->on_vane) {
         int known = hit->has_masking && hit->masking_w.x == wo.x && hit->masking_w.y == wo.y &&
                     hit->masking_w.z == wo.z;
-        plm_feather_prepare_masked(m->feather, &hit->barb, wo, known ? &hit->masking : NULL, hit->tint, rng,
+        plm_masking own; /* over the hit's window (docs/nearfield.md) */
+        if (!known)
+            plm_feather_masking(m->feather, &hit->barb, &hit->window, wo, &own);
+        plm_feather_prepare_masked(m->feather, &hit->barb, wo, known ? &hit->masking : &own, hit->tint, rng,
                                    (plm_feather_bsdf *)out->state);
         out->ops = &feather_ops;
     }

@@ -33,6 +33,8 @@ static const plm_param film_params[] = {
      "most scattering events per path", 0},
     {"exposure", PLM_PARAM_NUMBER, offsetof(plm_film_desc, exposure), -30.0, 30.0, "stops",
      "PNG only: scale by 2^exposure before tone mapping", 0},
+    {"far_field", PLM_PARAM_BOOL, offsetof(plm_film_desc, far_field), 0, 1, "",
+     "shade feathers with the far-field model only, even where a pixel resolves barbs (docs/nearfield.md)", 0},
 };
 const plm_param_block plm_film_param_block = {
     "film", "the image; also \"exr\" and \"png\": output files (working directory)", film_params,

@@ -31,6 +31,7 @@ typedef struct plm_film_desc {
     int width, height, spp, max_depth;
     uint64_t seed;
     double exposure;     /* PNG only: scale by 2^exposure before tone mapping */
+    int far_field;       /* 1: feathers only in the far field, even where barbs are resolved (docs/nearfield.md) */
     char exr[PLM_PATH_MAX]; /* "" = not written */
     char png[PLM_PATH_MAX];
 } plm_film_desc;

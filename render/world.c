@@ -32,6 +32,7 @@ typedef struct query_context {
     int transparent;
     int passing;
     uint64_t seed;                    /* passing: decisions are hash(seed, instance, triangle) */
+    double spread;                    /* pixel cone width per unit distance, 0: none (docs/nearfield.md) */
     vec3 back;                        /* unit, opposite to the ray's world-space direction */
     int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
     double t[MAX_CROSSINGS], transmission[MAX_CROSSINGS];
@@ -45,7 +46,11 @@ typedef struct query_context {
     float kept_t;
 } query_context;
 
-static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, plm_hit *hit);
+static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, double cone_width,
+                     vec3 d, plm_hit *hit);
+
+/* The pixel cone's width at distance t (t is the world one, in instances too). */
+static double cone_width(const query_context *ctx, double t) { return ctx->spread > 0.0 ? ctx->spread * t : INFINITY; }
 
 /* Intersection and occlusion filter. Background texels of the mask are not
  * there at all, so Embree goes on to the next candidate. In a transparent
@@ -72,8 +77,9 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
         if (!ctx->transparent && !ctx->passing)
             continue;
         plm_hit h;
-        fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], &h);
         /* In instances the ray arrives in object space; its parameter t is the world one. */
+        fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], cone_width(ctx, ray[8 * n + i]),
+                 v3_neg(ctx->back), &h);
         double tr = plm_material_transmission_keep(&h, ctx->back);
         if (ctx->passing) {
             /* One uniform per surface, from its identity rather than from the order Embree
@@ -273,6 +279,8 @@ static void build_camera(plm_world *w)
     cam->right = v3_scale(right, tan_half * aspect);
     cam->up = v3_scale(up, tan_half);
     cam->lens_radius = d.aperture;
+    /* A pixel's angular width (at the image centre); none with film.far_field. */
+    cam->pixel_spread = s->film.far_field ? 0.0 : 2.0 * tan_half / cam->height;
     cam->focus_distance = d.focus_distance > 0.0 ? d.focus_distance : v3_length(v3_sub(d.look_at, d.position));
 }
 
@@ -370,7 +378,8 @@ static void make_ray(struct RTCRay *r, vec3 o, vec3 d, double tmax)
 }
 
 /* World-space surface state at barycentrics (b1, b2) of a triangle of an instance. */
-static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, plm_hit *hit)
+static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, double cone_width,
+                     vec3 d, plm_hit *hit)
 {
     const plm_instance *in = &w->scene->instances[inst];
     const plm_mesh *m = &w->scene->meshes[in->mesh].mesh;
@@ -414,6 +423,8 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
     }
     hit->tint = in->tint;
     hit->material = &w->scene->materials[in->material];
+    hit->cone_width = cone_width;
+    hit->ray_dir = d;
     plm_material_surface(hit);
 }
 
@@ -423,6 +434,7 @@ static void init_context(query_context *ctx, const plm_world *w, int transparent
     ctx->world = w;
     ctx->transparent = transparent;
     ctx->passing = 0;
+    ctx->spread = 0.0;
     ctx->crossings = 0;
     ctx->overflow = 1.0;
     ctx->kept = NULL;
@@ -441,7 +453,7 @@ static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, dou
     *t = rh.ray.tfar;
     unsigned inst = rh.hit.instID[0], prim = w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID];
     if (!(ctx->have_kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
-        fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, hit);
+        fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, cone_width(ctx, rh.ray.tfar), d, hit);
     return 1;
 }
 
@@ -452,11 +464,12 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
     return intersect(w, &ctx, o, d, tmax, t, hit);
 }
 
-int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double *t,
-                                plm_hit *hit)
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double spread,
+                                double *t, plm_hit *hit)
 {
     query_context ctx;
     init_context(&ctx, w, 0);
+    ctx.spread = spread;
     ctx.passing = w->transmissive;
     ctx.seed = seed;
     ctx.back = v3_neg(d);

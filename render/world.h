@@ -27,6 +27,7 @@ typedef struct plm_camera {
     vec3 position, right, up, forward; /* right and up scaled to the image plane at distance 1 */
     double lens_radius, focus_distance;
     int width, height;
+    double pixel_spread; /* a pixel cone's width per unit distance; 0 = no cone (film.far_field) */
 } plm_camera;
 
 typedef struct plm_world {
@@ -54,9 +55,11 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
 /* Closest surface along the ray that does not let it pass: each surface
  * with a transmission (toward -d) is passed with that probability, decided
  * by a uniform number hashed from (seed, instance, triangle). This is the
- * delta transmission as fractional visibility in one query. */
-int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double *t,
-                                plm_hit *hit);
+ * delta transmission as fractional visibility in one query. spread: the
+ * pixel cone's width per unit distance from o (camera rays: the camera's
+ * pixel_spread), 0 for none; near-field shading uses it (docs/nearfield.md). */
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double spread,
+                                double *t, plm_hit *hit);
 
 /* Fraction of light passing the segment o + t d, t in (0, tmax): 0 if an
  * opaque surface is in the way, else the product of the transmissions of

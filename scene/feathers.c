@@ -142,6 +142,10 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
         rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
                                              err);
         f.texture.pixels = NULL; /* owned by the material now */
+        if (rc == PLM_OK) { /* the barb coordinate too (docs/nearfield.md) */
+            feather.texture.barb = f.barb.pixels;
+            f.barb.pixels = NULL;
+        }
         feather.pigment = f.pigment;
         memset(&f.pigment, 0, sizeof f.pigment);
     }
