@@ -159,16 +159,14 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
  * the axis (as the fiber samplers compute it; accurate near the axis). */
 static double fiber_cos_theta(vec3 local) { return sqrt(local.x * local.x + local.y * local.y); }
 
-/* The sum over components other than `skip` of eval (times weight and
- * cosine), and of pdf into *pdf if not NULL. Sampling picks exactly the
- * components eval sums (pick[k] > 0 iff weight[k] > 0 and the component
- * carries light), so one loop serves both. */
-static rgb eval_components(const plm_feather_bsdf *f, vec3 wi, int skip, double *pdf)
+/* Sampling picks exactly the components eval sums (pick[k] > 0 iff
+ * weight[k] > 0 and the component carries light), so one loop serves both. */
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
 {
     rgb sum = rgb_gray(0.0);
     double density = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (k == skip || !(f->pick[k] > 0.0))
+        if (!(f->pick[k] > 0.0))
             continue;
         vec3 local = frame_to_local(&f->fiber_frame[k], wi);
         double pk = 0.0;
@@ -178,12 +176,7 @@ static rgb eval_components(const plm_feather_bsdf *f, vec3 wi, int skip, double 
     }
     if (pdf)
         *pdf = density;
-    return sum;
-}
-
-rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
-{
-    return rgb_mul(eval_components(f, wi, -1, pdf), f->tint);
+    return rgb_mul(sum, f->tint);
 }
 
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
@@ -211,13 +204,14 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
     plm_fiber_sample_rec rec;
     if (!plm_fiber_bcsdf_sample(&f->bcsdf[k], remapped, u1, u2, &rec))
         return 0;
+    /* The weight and pdf of the world direction, as eval and pdf give them:
+     * fiber k's own sample record holds them for rec.wi, which the trip to
+     * world space and back moves by rounding (enough to change the density
+     * near the axis or across a table bin's edge). */
     *wi = frame_to_world(&f->fiber_frame[k], rec.wi);
-    /* Fiber k's eval cos (= weight pdf) and pdf at wi came with its sample;
-     * only the other fibers are looked up. */
-    rgb f_cos = rgb_add(eval_components(f, *wi, k, pdf), rgb_scale(rec.weight, rec.pdf * f->weight[k]));
-    *pdf += w[k] * rec.pdf;
+    rgb f_cos = plm_feather_eval(f, *wi, pdf);
     if (!(*pdf > 0.0))
         return 0;
-    *weight = rgb_scale(rgb_mul(f_cos, f->tint), 1.0 / *pdf);
+    *weight = rgb_scale(f_cos, 1.0 / *pdf);
     return 1;
 }
