@@ -3,7 +3,9 @@
  *
  * Notation: Delta = phi_i - phi_o is the azimuth relative to the view, cut
  * into phi_bins bins over [-pi, pi). For a node (theta_o, phi_o) the table
- * holds S(j, c), RGB, for rows j = 0..h_cells and columns c = 0..phi_bins:
+ * holds S(j, c) for rows j = 0..h_cells and columns c = 0..phi_bins, as the
+ * mean of RGB, R and G (B = 3 mean - R - G), so that sampling and pdf read one
+ * channel:
  *   S(j, c) = integral over h in [h_0, h_j] and Delta below bin c's start of
  *             sum_k A_k(h) G_N(Delta - Delta_k(h)) over the lobes that never
  *             met the medulla,
@@ -29,9 +31,39 @@ static size_t row_floats(const plm_fiber_table *t) { return 3 * (size_t)(t->phi_
 static size_t node_floats(const plm_fiber_table *t) { return (size_t)(t->h_cells + 1) * row_floats(t); }
 static double bin_width(const plm_fiber_table *t) { return PLM_TWO_PI / t->phi_bins; }
 
+/* theta_o nodes are uniform in the mean of theta_o / theta_max and of
+ * (u_first - u) / (u_first - u_last), where u = cos(theta_o) / sqrt(eta^2 -
+ * sin^2(theta_o)) is the inverse of the Bravais index that bends azimuths
+ * inside the fiber. Lobes move about evenly with u, which near grazing, where
+ * the index grows without bound, changes much faster than theta_o; the
+ * theta_o half keeps the nodes dense enough at moderate angles, where the
+ * Fresnel energies still change (docs/fiber.md). */
+static double inverse_index(double eta, double sin_theta, double cos_theta)
+{
+    return cos_theta / sqrt(eta * eta - sin_theta * sin_theta);
+}
+
+/* The node coordinate (0 .. theta_nodes - 1) of |theta_o| in [0, theta_max],
+ * given with its sine and cosine. */
+static double theta_coordinate(const plm_fiber_table *t, double theta, double sin_theta, double cos_theta)
+{
+    double u = inverse_index(t->params.eta, sin_theta, cos_theta);
+    double x = 0.5 * (theta / t->theta_max + (t->u_first - u) / (t->u_first - t->u_last));
+    return plm_clamp(x, 0.0, 1.0) * (t->theta_nodes - 1);
+}
+
+/* Node k's |theta_o|: theta_coordinate inverted by bisection (it increases). */
 static double node_theta(const plm_fiber_table *t, int k)
 {
-    return t->theta_nodes > 1 ? t->theta_max * k / (t->theta_nodes - 1) : 0.0;
+    double lo = 0.0, hi = t->theta_max;
+    for (int i = 0; i < 60; ++i) {
+        double mid = 0.5 * (lo + hi);
+        if (theta_coordinate(t, mid, sin(mid), cos(mid)) < k)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return k == 0 ? 0.0 : k == t->theta_nodes - 1 ? t->theta_max : 0.5 * (lo + hi);
 }
 
 static int periodic(const plm_fiber_table *t) { return t->symmetry == PLM_FIBER_TABLE_NONE; }
@@ -49,20 +81,24 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
                   : centred_x              ? PLM_FIBER_TABLE_MIRROR_X
                   : centred_y              ? PLM_FIBER_TABLE_MIRROR_Y
                                            : PLM_FIBER_TABLE_NONE;
-    /* Four bins per beta_n keep eval's linear interpolation within 0.5% of a lobe's peak. */
-    int bins = (int)ceil(4.0 * PLM_TWO_PI / p->beta_n);
+    /* A rotationally symmetric fiber needs one phi_o node, so it can afford
+     * fine h cells and theta_o nodes, and four bins per beta_n, which keep
+     * eval's linear interpolation within 0.5% of a lobe's peak. Otherwise the
+     * errors of interpolating between phi_o nodes and within h cells are far
+     * larger than that of two bins per beta_n, and the memory goes to h cells
+     * and phi_o nodes (docs/fiber.md has the errors). */
+    int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
+    int bins = (int)ceil((round_fiber ? 4.0 : 2.0) * PLM_TWO_PI / p->beta_n);
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;
-    /* A rotationally symmetric fiber needs one phi_o node, so it can afford
-     * fine h cells and theta_o nodes; otherwise phi_o nodes take what the
-     * memory budget leaves (docs/fiber.md has the errors). */
-    int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
     t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 32 : 12;
     size_t row_bytes = sizeof(float) * row_floats(t);
     int rows = (int)(PLM_FIBER_TABLE_BUDGET / (row_bytes * (size_t)t->theta_nodes));
-    t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 48;
+    t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 72;
     t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
     t->theta_max = plm_radians(89.0);
+    t->u_first = 1.0 / p->eta;
+    t->u_last = inverse_index(p->eta, sin(t->theta_max), cos(t->theta_max));
     static const double span[] = {0.0, HALF_PI, PLM_PI, PLM_PI, PLM_TWO_PI};
     static const double lo[] = {0.0, 0.0, -HALF_PI, 0.0, -PLM_PI};
     double s = span[t->symmetry];
@@ -153,10 +189,15 @@ static void build_node(build_job *job, int node, double *scratch, plm_fiber_lobe
             double below = 0.0;
             for (int c = 0; c <= bins; ++c) {
                 row[3 * c + ch] += below;
-                dst[3 * c + ch] = (float)row[3 * c + ch];
                 if (c < bins)
                     below += cell[3 * c + ch];
             }
+        }
+        for (int c = 0; c <= bins; ++c) {
+            const double *v = row + 3 * c;
+            dst[3 * c] = (float)((v[0] + v[1] + v[2]) / 3.0);
+            dst[3 * c + 1] = (float)v[0];
+            dst[3 * c + 2] = (float)v[1];
         }
     }
 }
@@ -269,57 +310,71 @@ static int h_cell(const plm_fiber_table *t, double h, double *frac)
     return j;
 }
 
-static void add_row(plm_fiber_table_query *q, int j, double coef)
+/* A row of the interval's mean with its h weight, in a list of at most four. */
+typedef struct row_list {
+    int row[4];
+    double coef[4];
+    int n;
+} row_list;
+
+static void add_row(row_list *l, int j, double coef)
 {
-    size_t off = row_floats(q->table) * (size_t)j;
-    for (int r = 0; r < q->rows; ++r)
-        if (q->row[r] == off) {
-            q->row_coef[r] += coef;
+    for (int r = 0; r < l->n; ++r)
+        if (l->row[r] == j) {
+            l->coef[r] += coef;
             return;
         }
-    q->row[q->rows] = off;
-    q->row_coef[q->rows++] = coef;
+    l->row[l->n] = j;
+    l->coef[l->n++] = coef;
 }
 
 /* The rows whose combination is the mean over [hmin, hmax] (within [-1, 1]). */
-static void set_rows(plm_fiber_table_query *q, double hmin, double hmax)
+static void interval_rows(const plm_fiber_table *t, double hmin, double hmax, row_list *l)
 {
-    const plm_fiber_table *t = q->table;
     double f0, f1;
     int j0 = h_cell(t, hmin, &f0), j1 = h_cell(t, hmax, &f1);
-    q->rows = 0;
+    l->n = 0;
     double width = hmax - hmin;
     if (width < 1e-9) { /* the density at a point: its cell's */
         double inv = 1.0 / (t->h_node[j0 + 1] - t->h_node[j0]);
-        add_row(q, j0 + 1, inv);
-        add_row(q, j0, -inv);
+        add_row(l, j0 + 1, inv);
+        add_row(l, j0, -inv);
         return;
     }
     double inv = 1.0 / width;
-    add_row(q, j1, (1.0 - f1) * inv);
-    add_row(q, j1 + 1, f1 * inv);
-    add_row(q, j0, -(1.0 - f0) * inv);
-    add_row(q, j0 + 1, -f0 * inv);
+    add_row(l, j1, (1.0 - f1) * inv);
+    add_row(l, j1 + 1, f1 * inv);
+    add_row(l, j0, -(1.0 - f0) * inv);
+    add_row(l, j0 + 1, -f0 * inv);
 }
 
-/* The combined rows of corner c at column col, RGB. */
-static rgb column(const plm_fiber_table_query *q, int c, int col)
+/* The interval's mean at column col: channel 0 (mean of RGB) ... */
+static double column_mean(const plm_fiber_table_query *q, int col)
 {
-    const float *base = q->corner[c] + 3 * (size_t)col;
-    double r = 0.0, g = 0.0, b = 0.0;
-    for (int i = 0; i < q->rows; ++i) {
-        const float *v = base + q->row[i];
-        r += q->row_coef[i] * v[0];
-        g += q->row_coef[i] * v[1];
-        b += q->row_coef[i] * v[2];
+    double m = 0.0;
+    for (int k = 0; k < q->terms; ++k)
+        m += q->coef[k] * q->term[k][3 * col];
+    return m;
+}
+
+/* ... and the mass of bin b in all three channels, as (mean, R, G). */
+static void bin_mass(const plm_fiber_table_query *q, int b, double out[3])
+{
+    double m = 0.0, r = 0.0, g = 0.0;
+    for (int k = 0; k < q->terms; ++k) {
+        const float *v = q->term[k] + 3 * b;
+        m += q->coef[k] * (v[3] - v[0]);
+        r += q->coef[k] * (v[4] - v[1]);
+        g += q->coef[k] * (v[5] - v[2]);
     }
-    return rgb_make(r, g, b);
+    out[0] = m, out[1] = r, out[2] = g;
 }
 
 static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, plm_fiber_table_query *q)
 {
     q->table = t;
     q->total = 0.0;
+    q->terms = 0;
     double ct = sqrt(wo.x * wo.x + wo.y * wo.y);
     if (!(ct > 1e-12) || !(hmin <= hmax))
         return;
@@ -349,7 +404,9 @@ static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double
     hmin = plm_clamp(hmin, -1.0, 1.0);
     hmax = plm_clamp(hmax, -1.0, 1.0);
     /* Bilinear weights over (|theta_o|, phi_o). */
-    double ft = fmin(fabs(q->theta_o), t->theta_max) / t->theta_max * (t->theta_nodes - 1);
+    double len = hypot(ct, wo.z), ft = fabs(q->theta_o) < t->theta_max
+                                           ? theta_coordinate(t, fabs(q->theta_o), fabs(wo.z) / len, ct / len)
+                                           : t->theta_nodes - 1.0;
     int it = (int)ft;
     it = it >= t->theta_nodes - 1 ? t->theta_nodes - 2 : it;
     ft -= it;
@@ -373,13 +430,16 @@ static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double
     int nodes[4] = {it * t->phi_nodes + ip0, it * t->phi_nodes + ip1, (it + 1) * t->phi_nodes + ip0,
                     (it + 1) * t->phi_nodes + ip1};
     double w[4] = {(1 - ft) * (1 - fp), (1 - ft) * fp, ft * (1 - fp), ft * fp};
-    set_rows(q, hmin, hmax);
-    for (int c = 0; c < 4; ++c) {
-        q->corner[c] = t->data + node_floats(t) * (size_t)nodes[c];
-        q->weight[c] = w[c];
-        q->corner_total[c] = fmax(0.0, rgb_mean(column(q, c, t->phi_bins)));
-        q->total += w[c] * q->corner_total[c];
-    }
+    row_list rows;
+    interval_rows(t, hmin, hmax, &rows);
+    /* Row 0 is all zeros, and so is what a zero weight multiplies: neither makes a term. */
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < rows.n; ++r)
+            if (w[c] > 0.0 && rows.coef[r] != 0.0 && rows.row[r] > 0) {
+                q->term[q->terms] = t->data + node_floats(t) * (size_t)nodes[c] + row_floats(t) * (size_t)rows.row[r];
+                q->coef[q->terms++] = w[c] * rows.coef[r];
+            }
+    q->total = fmax(0.0, column_mean(q, t->phi_bins));
 }
 
 /* theta_i, the relative azimuth in the table's orientation, and cos(theta_i)
@@ -395,77 +455,70 @@ static int table_angles(const plm_fiber_table_query *q, vec3 wi, double *theta, 
     return 1;
 }
 
-/* The table part at wi: eval (G_M N / cos^2(theta_i), N interpolated
- * linearly between the two nearest bin centres) into *f if f is not NULL,
- * and the sampler's density (G_M times the piecewise-constant bin density,
- * per solid angle) into *pdf. The bin holding wi is one of the two eval
- * interpolates, so the pdf comes almost free with eval. */
-static void table_lookup(const plm_fiber_table_query *q, vec3 wi, rgb *f, double *pdf)
+/* The table part at (theta_i, delta, cos(theta_i)): eval (G_M N / cos^2(theta_i),
+ * N interpolated linearly between the two nearest bin centres) into *f if f
+ * is not NULL, and the sampler's density (G_M times the piecewise-constant
+ * bin density, per solid angle) into *pdf. The bin holding wi is one of the
+ * two eval interpolates, so the pdf comes almost free with eval. */
+static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta, double ct, rgb *f,
+                                double *pdf)
 {
-    if (f)
-        *f = rgb_gray(0.0);
-    *pdf = 0.0;
-    double theta, delta, ct;
-    if (!(q->total > 0.0) || !table_angles(q, wi, &theta, &delta, &ct))
-        return;
     const plm_fiber_table *t = q->table;
     double gm = plm_fiber_gm(t->params.beta_m, q->gm_scale, theta + q->theta_o);
     if (gm == 0.0)
         return;
     int n = t->phi_bins;
     double w = bin_width(t), x = (delta + PLM_PI) / w - 0.5, fl = floor(x), frac = x - fl;
-    int b0 = ((int)fl + n) % n, b1 = b0 + 1 < n ? b0 + 1 : 0, upper = frac >= 0.5; /* wi lies in b1 if upper */
-    rgb sum = rgb_gray(0.0);
-    double mass = 0.0;
-    for (int c = 0; c < 4; ++c) {
-        if (!(q->weight[c] > 0.0))
-            continue;
-        rgb c0 = column(q, c, b0), c1 = column(q, c, b0 + 1);
-        rgb m0 = rgb_sub(c1, c0), m1 = f || upper ? rgb_sub(b1 ? column(q, c, b1 + 1) : column(q, c, 1),
-                                                              b1 ? c1 : column(q, c, 0))
-                                                  : m0;
-        if (f)
-            sum = rgb_add(sum, rgb_scale(rgb_add(rgb_scale(m0, 1.0 - frac), rgb_scale(m1, frac)), q->weight[c]));
-        mass += q->weight[c] * fmax(0.0, rgb_mean(upper ? m1 : m0));
-    }
+    int b0 = ((int)fl + n) % n, b1 = b0 + 1 < n ? b0 + 1 : 0; /* wi lies in b1 if frac >= 0.5 */
+    double m0[3], m1[3];
+    if (f || frac >= 0.5)
+        bin_mass(q, b1, m1);
+    if (f || frac < 0.5)
+        bin_mass(q, b0, m0);
     if (f) {
-        double s = gm / (w * ct * ct);
-        *f = rgb_make(fmax(0.0, sum.r * s), fmax(0.0, sum.g * s), fmax(0.0, sum.b * s));
+        double s = gm / (w * ct * ct), v[3];
+        for (int ch = 0; ch < 3; ++ch)
+            v[ch] = (m0[ch] + (m1[ch] - m0[ch]) * frac) * s;
+        *f = rgb_make(fmax(0.0, v[1]), fmax(0.0, v[2]), fmax(0.0, 3.0 * v[0] - v[1] - v[2]));
     }
-    *pdf = gm * mass / (q->total * w * ct);
+    *pdf = gm * fmax(0.0, frac >= 0.5 ? m1[0] : m0[0]) / (q->total * w * ct);
 }
 
-/* A node by weight_c corner_total_c (u0), a bin of it by its CDF (u2, then
- * uniform within the bin), theta_i from G_M (u1). */
-static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2, vec3 *wi)
+static void table_lookup(const plm_fiber_table_query *q, vec3 wi, rgb *f, double *pdf)
+{
+    if (f)
+        *f = rgb_gray(0.0);
+    *pdf = 0.0;
+    double theta, delta, ct;
+    if (q->total > 0.0 && table_angles(q, wi, &theta, &delta, &ct))
+        table_lookup_angles(q, theta, delta, ct, f, pdf);
+}
+
+/* A bin by the mean channel's CDF (u0, then uniform within the bin) and
+ * theta_i from G_M (u1): the angles into theta, delta (in the table's
+ * orientation) and the direction into wi. */
+static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double *theta, double *delta,
+                        vec3 *wi)
 {
     if (!(q->total > 0.0))
         return 0;
     const plm_fiber_table *t = q->table;
-    double u = u0 * q->total;
-    int c = 0;
-    while (c < 3 && (u >= q->weight[c] * q->corner_total[c] || q->weight[c] * q->corner_total[c] <= 0.0)) {
-        u -= q->weight[c] * q->corner_total[c];
-        ++c;
-    }
-    if (!(q->weight[c] * q->corner_total[c] > 0.0))
-        return 0;
-    double target = u2 * q->corner_total[c];
+    double target = u0 * q->total, a = 0.0, b = q->total;
     int lo = 0, hi = t->phi_bins; /* column lo <= target < column hi */
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        if (rgb_mean(column(q, c, mid)) <= target)
-            lo = mid;
+        double m = column_mean(q, mid);
+        if (m <= target)
+            lo = mid, a = m;
         else
-            hi = mid;
+            hi = mid, b = m;
     }
-    double a = rgb_mean(column(q, c, lo)), b = rgb_mean(column(q, c, lo + 1));
-    if (!(b > a))
+    if (hi - lo != 1 || !(b > a))
         return 0;
     double frac = plm_clamp((target - a) / (b - a), 0.0, 1.0);
-    double delta = -PLM_PI + (lo + frac) * bin_width(t);
-    double phi = q->phi_o + (q->flip ? -delta : delta);
-    *wi = plm_fiber_direction(plm_fiber_sample_gm(-q->theta_o, t->params.beta_m, u1), phi);
+    *delta = -PLM_PI + (lo + frac) * bin_width(t);
+    *theta = plm_fiber_sample_gm(-q->theta_o, t->params.beta_m, u1);
+    *wi = plm_fiber_direction(*theta, q->phi_o + (q->flip ? -*delta : *delta));
     return 1;
 }
 
@@ -492,14 +545,18 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
     out->pick_table = out->total > 0.0 ? out->tab.total / out->total : 0.0;
 }
 
-/* eval into *f (if not NULL) and the mixture's pdf. */
-static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, rgb *f, double *pdf)
+/* eval into *f (if not NULL) and the mixture's pdf at wi; angles, if not
+ * NULL, are wi's (theta_i, delta, cos(theta_i)) for the table part, known
+ * when the table part sampled wi. */
+static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles, rgb *f, double *pdf)
 {
     double tab_pdf = 0.0;
-    if (b->tab.table)
-        table_lookup(&b->tab, wi, f, &tab_pdf);
-    else if (f)
+    if (f)
         *f = rgb_gray(0.0);
+    if (angles)
+        table_lookup_angles(&b->tab, angles[0], angles[1], angles[2], f, &tab_pdf);
+    else if (b->tab.table)
+        table_lookup(&b->tab, wi, f, &tab_pdf);
     *pdf = b->pick_table * tab_pdf;
     if (b->set.count > 0) {
         if (f)
@@ -513,21 +570,21 @@ rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
 {
     rgb f;
     double unused;
-    bcsdf_lookup(b, wi, &f, &unused);
+    bcsdf_lookup(b, wi, NULL, &f, &unused);
     return f;
 }
 
 double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi)
 {
     double pdf;
-    bcsdf_lookup(b, wi, NULL, &pdf);
+    bcsdf_lookup(b, wi, NULL, NULL, &pdf);
     return pdf;
 }
 
 rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
 {
     rgb f;
-    bcsdf_lookup(b, wi, &f, pdf);
+    bcsdf_lookup(b, wi, NULL, &f, pdf);
     return f;
 }
 
@@ -538,9 +595,12 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
     if (!b->tab.table)
         return plm_fiber_sample(b->params, &b->set, u0, u1, u2, rec);
     vec3 wi;
+    double angles[3], *known = NULL;
     if (u0 < b->pick_table) {
-        if (!table_sample(&b->tab, u0 / b->pick_table, u1, u2, &wi))
+        if (!table_sample(&b->tab, u0 / b->pick_table, u1, &angles[0], &angles[1], &wi))
             return 0;
+        angles[2] = sqrt(wi.x * wi.x + wi.y * wi.y);
+        known = angles;
         rec->lobe = -1;
     } else {
         plm_fiber_sample_rec part;
@@ -552,7 +612,7 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
     }
     rgb f;
     double pdf, ct = sqrt(wi.x * wi.x + wi.y * wi.y);
-    bcsdf_lookup(b, wi, &f, &pdf);
+    bcsdf_lookup(b, wi, known, &f, &pdf);
     if (!(pdf > 0.0))
         return 0;
     rec->wi = wi;

@@ -19,7 +19,7 @@
 
 #include "render/fiber.h"
 
-#define PLM_FIBER_TABLE_VERSION 2
+#define PLM_FIBER_TABLE_VERSION 3
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
@@ -45,9 +45,10 @@ typedef struct plm_fiber_table {
     plm_fiber_params params;
     int theta_nodes, phi_nodes, h_cells, phi_bins, symmetry;
     double theta_max;  /* |theta_o| of the last node; beyond it the last node serves */
+    double u_first, u_last; /* nodes are uniform in u(|theta_o|) from u_first to u_last (docs/fiber.md) */
     double phi_lo, phi_step; /* phi_o of node k is phi_lo + k phi_step */
     double *h_node;    /* h_cells + 1 cell bounds, uniform in asin(h) */
-    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, RGB (docs/fiber.md) */
+    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, (mean of RGB, R, G) (docs/fiber.md) */
     size_t floats;
     int from_cache;    /* 1 if read from the disk cache */
     double build_seconds;
@@ -69,18 +70,17 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
 int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_options *o, char *path,
                                size_t size);
 
-/* The table part of a prepared query: the four (theta_o, phi_o) nodes around
- * wo with their bilinear weights, and the rows whose combination is the mean
- * over [h-, h+]. */
+/* The table part of a prepared query: the mean over [h-, h+] at the view's
+ * (theta_o, phi_o) at any column c is sum_k coef[k] term[k][3 c] (per
+ * channel): each term is a row of one of the four nodes around wo, its
+ * coefficient the node's bilinear weight times the row's h weight. */
+#define PLM_FIBER_TABLE_TERMS 16
 typedef struct plm_fiber_table_query {
     const plm_fiber_table *table;
-    const float *corner[4];
-    double weight[4];        /* bilinear weights */
-    double corner_total[4];  /* each node's mean energy over the interval (mean of RGB) */
-    double total;            /* sum_c weight_c corner_total_c: the part's energy, for sampling */
-    size_t row[4];           /* row offsets (floats) in a node ... */
-    double row_coef[4];      /* ... and their coefficients, already divided by (h+ - h-) */
-    int rows;
+    const float *term[PLM_FIBER_TABLE_TERMS];
+    double coef[PLM_FIBER_TABLE_TERMS];
+    int terms;
+    double total;            /* the part's energy (mean of RGB), for sampling */
     int flip;                /* mirrored node: azimuths relative to phi_o change sign */
     double theta_o, phi_o, gm_scale;
 } plm_fiber_table_query;
