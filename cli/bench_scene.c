@@ -1,8 +1,9 @@
 /* plumage bench scene: scene files (by default the paper's Table 2 scenes,
- * the presets) and pelts of growing feather counts, each measured in a child
- * process of its own so that its peak memory is its own: load (generation,
- * layout), world build, samples per second per thread, time per sample and
- * peak resident memory. */
+ * the presets), pelts of growing feather counts, and scenes with the near
+ * field on and off (docs/nearfield.md), each measured in a child process of
+ * its own so that its peak memory is its own: load (generation, layout),
+ * world build, samples per second per thread, time per sample and peak
+ * resident memory. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +23,7 @@ typedef struct bench_scene_options {
     int threads, spp;
     double scale; /* of the film resolution */
     const char *images;
+    int far_field; /* 0: the scene's film.far_field; 1: near field on; 2: off */
 } bench_scene_options;
 
 typedef struct figures {
@@ -52,6 +54,8 @@ static void measure(const char *file, const char *text, const char *tag, const b
     }
     scene.film.width = (int)fmax(1.0, round(scene.film.width * o->scale));
     scene.film.height = (int)fmax(1.0, round(scene.film.height * o->scale));
+    if (o->far_field)
+        scene.film.far_field = o->far_field == 2;
     double t1 = plm_bench_seconds();
     plm_world world;
     if (plm_world_build(&scene, &world, &err) != PLM_OK) {
@@ -84,12 +88,15 @@ static void measure(const char *file, const char *text, const char *tag, const b
     plm_scene_free(&scene);
 }
 
-/* measure() in a child process; its figures come back through a pipe. */
+/* measure() in a child process; its figures come back through a pipe (and
+ * into *out if not NULL). */
 static int run_isolated(const char *label, const char *file, const char *text, const char *tag,
-                        const bench_scene_options *o)
+                        const bench_scene_options *o, figures *out)
 {
     int fd[2];
     figures f = {0};
+    if (out)
+        *out = f;
     if (pipe(fd) != 0)
         return 1;
     fflush(stdout);
@@ -113,6 +120,27 @@ static int run_isolated(const char *label, const char *file, const char *text, c
     printf("%-28s %4dx%-4d %4d %3d %8d %8.2f %7.2f %8.2f %12.0f %10.2f %10.2f %9.1f\n", label, f.width, f.height,
            f.spp, f.threads, f.instances, f.load, f.build, f.seconds, f.samples_per_thread, f.us_per_sample,
            f.cpu_us_per_sample, f.peak_mib);
+    if (out)
+        *out = f;
+    return 0;
+}
+
+/* A scene with the near field on, then off (docs/nearfield.md), one after
+ * the other, and what the near field costs: CPU time per sample (which
+ * other processes on the cores do not inflate) and peak memory. */
+static int run_near_far(const char *file, const char *tag, bench_scene_options o)
+{
+    figures f[2];
+    char label[300], name[300];
+    for (int k = 0; k < 2; ++k) {
+        o.far_field = k + 1;
+        snprintf(label, sizeof label, "%.200s %s", tag, k ? "far" : "near");
+        snprintf(name, sizeof name, "%.200s_%s", tag, k ? "far" : "near");
+        if (run_isolated(label, file, NULL, name, &o, &f[k]) != 0)
+            return 1;
+    }
+    printf("%-28s near field: %+.1f%% CPU time per sample, %+.1f MiB peak memory\n", tag,
+           100.0 * (f[0].cpu_us_per_sample / f[1].cpu_us_per_sample - 1.0), f[0].peak_mib - f[1].peak_mib);
     return 0;
 }
 
@@ -147,8 +175,8 @@ static char *pelt_text(const char *species, int count, int growing)
 
 int bench_scene(int argc, char **argv)
 {
-    bench_scene_options o = {0, 4, 1.0, NULL};
-    int pelts = 0;
+    bench_scene_options o = {0, 4, 1.0, NULL, 0};
+    int pelts = 0, near_far = 0;
     const char *species = "presets/species/covert_parrot.json";
     plm_option opts[] = {
         {"--threads", PLM_OPT_INT, &o.threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
@@ -160,6 +188,9 @@ int bench_scene(int argc, char **argv)
         {"--species", PLM_OPT_STRING, &species, 0, 0, 0, NULL, "FILE",
          "--pelts: the feather (default presets/species/covert_parrot.json)", 0},
         {"--images", PLM_OPT_STRING, &o.images, 0, 0, 0, NULL, "PREFIX", "also write PREFIX_<scene>.png", 0},
+        {"--near-far", PLM_OPT_FLAG, &near_far, 0, 0, 0, NULL, NULL,
+         "each scene with the near field on and off (film.far_field) and the near field's cost; default scene "
+         "presets/scenes/closeup_remex.json (docs/nearfield.md)", 0},
     };
     plm_command_help help = {
         "plumage bench scene [SCENE.json...] [options]",
@@ -182,21 +213,22 @@ int bench_scene(int argc, char **argv)
                 snprintf(label, sizeof label, "%s pelt %d", growing ? "(i) growing" : "(ii) shrinking", counts[i]);
                 snprintf(tag, sizeof tag, "pelt_%s_%d", growing ? "growing" : "shrinking", counts[i]);
                 char *text = pelt_text(species, counts[i], growing);
-                failures += text ? run_isolated(label, NULL, text, tag, &o) : 1;
+                failures += text ? run_isolated(label, NULL, text, tag, &o, NULL) : 1;
                 free(text);
             }
         return failures ? 1 : 0;
     }
     static const char *const table2[] = {"presets/scenes/single_feather.json", "presets/scenes/pelt_2500.json",
                                          "presets/scenes/pelt_82.json", "presets/scenes/ball_496.json"};
-    const char *const *files = n ? positional : table2;
-    int count = n ? n : 4;
+    static const char *const closeup[] = {"presets/scenes/closeup_remex.json"};
+    const char *const *files = n ? positional : (near_far ? closeup : table2);
+    int count = n ? n : (near_far ? 1 : 4);
     for (int i = 0; i < count; ++i) {
         const char *base = strrchr(files[i], '/');
         base = base ? base + 1 : files[i];
         char tag[256];
         snprintf(tag, sizeof tag, "%.*s", (int)(strcspn(base, ".")), base);
-        failures += run_isolated(tag, files[i], NULL, tag, &o);
+        failures += near_far ? run_near_far(files[i], tag, o) : run_isolated(tag, files[i], NULL, tag, &o, NULL);
     }
     return failures ? 1 : 0;
 }
