@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "common/fileio.h"
 #include "common/json.h"
@@ -258,6 +259,27 @@ static inline void closeup_check_zoom(const char *species, int size, int spp, co
             assert_double_near(mean[0][c] / ref[c], 1.0, rel_tol);
         }
     }
+}
+
+/* The group's setup and teardown: the flat species in a directory of its own. */
+static char closeup_dir[256], closeup_species[512];
+
+static inline int closeup_setup(void **state)
+{
+    (void)state;
+    snprintf(closeup_dir, sizeof closeup_dir, "/tmp/plumage_nearfield_XXXXXX");
+    if (!mkdtemp(closeup_dir))
+        return -1;
+    closeup_write_species(closeup_dir, closeup_species, sizeof closeup_species);
+    return 0;
+}
+
+static inline int closeup_teardown(void **state)
+{
+    (void)state;
+    remove(closeup_species);
+    rmdir(closeup_dir);
+    return 0;
 }
 
 #endif

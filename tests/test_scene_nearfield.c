@@ -10,42 +10,19 @@
 #include <cmocka.h>
 #include "assert_double.h"
 
-#include <stdlib.h>
-#include <unistd.h>
-
 #include "nearfield_render.h"
-
-static char dir[256], species[512];
-
-static int setup(void **state)
-{
-    (void)state;
-    snprintf(dir, sizeof dir, "/tmp/plumage_test_nearfield_XXXXXX");
-    if (!mkdtemp(dir))
-        return -1;
-    closeup_write_species(dir, species, sizeof species);
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    remove(species);
-    rmdir(dir);
-    return 0;
-}
 
 static void closeup_shows_the_species_barbs(void **state)
 {
     (void)state;
-    closeup_check_barbs(species, 96, 8, 0.05, 3.0);
+    closeup_check_barbs(closeup_species, 96, 8, 0.05, 3.0);
 }
 
 static void zooming_out_keeps_the_mean_colour(void **state)
 {
     (void)state;
     const double pixels_mm[] = {0.05, 0.2, 0.3};
-    closeup_check_zoom(species, 32, 64, pixels_mm, 3, 0.04);
+    closeup_check_zoom(closeup_species, 32, 64, pixels_mm, 3, 0.04);
 }
 
 int main(void)
@@ -54,5 +31,5 @@ int main(void)
         cmocka_unit_test(closeup_shows_the_species_barbs),
         cmocka_unit_test(zooming_out_keeps_the_mean_colour),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, closeup_setup, closeup_teardown);
 }
