@@ -25,6 +25,7 @@ typedef struct job_fields {
     const cJSON *set;
     int spp, width, height;
     long long seed;
+    int assets;
 } job_fields;
 
 static char *dup_string(const char *s)
@@ -82,6 +83,8 @@ static plm_result read_job_fields(const plm_json_reader *r, const cJSON *obj, co
     if (rc == PLM_OK)
         rc = plm_json_int(r, obj, path, "seed", seed, -1, 2147483647, &seed);
     f->seed = seed;
+    if (rc == PLM_OK)
+        rc = plm_json_bool(r, obj, path, "assets", f->assets, &f->assets);
     const cJSON *res = cJSON_GetObjectItemCaseSensitive(obj, "resolution");
     if (rc == PLM_OK && res) {
         const cJSON *w = cJSON_GetArrayItem(res, 0), *h = cJSON_GetArrayItem(res, 1);
@@ -153,7 +156,7 @@ void plm_manifest_free(plm_manifest *m)
 static uint64_t job_key(const plm_batch_job *job)
 {
     char nums[128];
-    snprintf(nums, sizeof nums, "%d %d %d %lld", job->spp, job->width, job->height, job->seed);
+    snprintf(nums, sizeof nums, "%d %d %d %lld %d", job->spp, job->width, job->height, job->seed, job->assets);
     uint64_t h = plm_fnv1a64(job->scene, strlen(job->scene) + 1, PLM_FNV_OFFSET);
     for (int i = 0; i < job->n_sets; ++i)
         h = plm_fnv1a64(job->sets[i], strlen(job->sets[i]) + 1, h);
@@ -175,6 +178,7 @@ static plm_result make_job(const plm_json_reader *r, const char *where, const jo
     job->width = f->width;
     job->height = f->height;
     job->seed = f->seed;
+    job->assets = f->assets;
     if (snprintf(job->name, sizeof job->name, "%0*d%s%s", digits, index, name ? "-" : "", name ? name : "") >=
         (int)sizeof job->name)
         return plm_json_fail(r, where, "name", "too long");
@@ -194,7 +198,7 @@ static int digits_for(int n)
 static plm_result read_jobs(const plm_json_reader *r, const cJSON *jobs, const job_fields *top, const cJSON *top_set,
                             plm_manifest *m)
 {
-    static const char *const keys[] = {"name", "scene", "set", "spp", "resolution", "seed", NULL};
+    static const char *const keys[] = {"name", "scene", "set", "spp", "resolution", "seed", "assets", NULL};
     int n = cJSON_GetArraySize(jobs);
     if (!cJSON_IsArray(jobs) || n == 0)
         return plm_json_fail(r, "jobs", NULL, "expected a non-empty array of jobs");
@@ -310,14 +314,15 @@ static plm_result read_sweep(const plm_json_reader *r, const cJSON *sweep, const
 
 plm_result plm_manifest_parse(const char *text, size_t len, const char *path, plm_manifest *m, plm_error *err)
 {
-    static const char *const keys[] = {"scene", "output", "spp", "resolution", "seed", "set", "jobs", "sweep", NULL};
+    static const char *const keys[] = {"scene", "output", "spp", "resolution", "seed", "assets", "set", "jobs", "sweep",
+                                       NULL};
     memset(m, 0, sizeof *m);
     cJSON *root;
     plm_result rc = plm_json_parse(text, len, path, &root, err);
     if (rc != PLM_OK)
         return rc;
-    plm_json_reader r = {path, err};
-    job_fields top = {NULL, NULL, 0, 0, 0, -1};
+    plm_json_reader r = {path, err, 0};
+    job_fields top = {NULL, NULL, 0, 0, 0, -1, 1};
     const char *output = NULL;
     const cJSON *jobs = cJSON_GetObjectItemCaseSensitive(root, "jobs");
     const cJSON *sweep = cJSON_GetObjectItemCaseSensitive(root, "sweep");

@@ -21,6 +21,7 @@ typedef struct plm_batch_job {
     int spp;         /* 0 = the scene's film.spp */
     int width, height; /* 0 = the scene's film size */
     long long seed;  /* -1 = the scene's film.seed */
+    int assets;      /* write the generated feathers' meshes and textures (default 1) */
     char *label;     /* sweep: one "key=value" line per parameter that varies (the key's last
                         segment unless two keys share it); jobs: the name */
     uint64_t key;    /* hash of everything above but the name: a summary for other inputs is stale */

@@ -1,10 +1,13 @@
 /* One batch job in this process, and what a job's folder says about it. */
+#define _XOPEN_SOURCE 700 /* nftw */
 #include <dirent.h>
 #include <errno.h>
+#include <ftw.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -18,9 +21,11 @@
 
 const char *const plm_job_state_names[] = {"missing", "killed", "failed", "running", "done"};
 
-/* The images every job writes, in its folder. */
-static const char *const outputs[] = {"image.png", "image.exr"};
-#define N_OUTPUTS 2
+/* The images every job writes, and the resolved scene, in its folder; with
+ * assets, the generated feathers' files in folders under ASSETS. */
+static const char *const outputs[] = {"image.png", "image.exr", "scene.json"};
+#define N_OUTPUTS 3
+#define ASSETS "assets"
 
 int plm_batch_job_path(const plm_batch *b, int job, const char *file, char *out, size_t size)
 {
@@ -219,8 +224,16 @@ void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st)
     }
 }
 
+static int remove_entry(const char *path, const struct stat *st, int type, struct FTW *ftw)
+{
+    (void)st, (void)type, (void)ftw;
+    remove(path);
+    return 0;
+}
+
 /* Removes what an earlier, killed run of the job may have left: temporary
- * files (".name.tmpPID-N.ext", see common/fileio.h) and the old records. */
+ * files (".name.tmpPID-N.ext", see common/fileio.h), the old records and
+ * the old assets (another run's feathers, or a killed run's temporaries). */
 static void clean_job_folder(const plm_batch *b, int job)
 {
     char dir[PLM_PATH_MAX], path[PLM_PATH_MAX];
@@ -237,6 +250,8 @@ static void clean_job_folder(const plm_batch *b, int job)
         plm_batch_job_path(b, job, records[i], path, sizeof path);
         remove(path);
     }
+    plm_batch_job_path(b, job, ASSETS, path, sizeof path);
+    nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
 }
 
 static volatile sig_atomic_t stop_job;
@@ -267,6 +282,39 @@ static int finish_failed(const plm_batch *b, int job, const char *message, int s
     return status;
 }
 
+/* The file out/<job>/<file> as "file": {"bytes", "fnv1a64"}; 0 if unreadable. */
+static int add_output(const plm_batch *b, int job, const char *file, cJSON *files)
+{
+    char path[PLM_PATH_MAX], hex[17];
+    long long bytes;
+    plm_batch_job_path(b, job, file, path, sizeof path);
+    if (!hash_file(path, &bytes, hex))
+        return 0;
+    cJSON *f = cJSON_AddObjectToObject(files, file);
+    return f && cJSON_AddNumberToObject(f, "bytes", (double)bytes) && cJSON_AddStringToObject(f, "fnv1a64", hex);
+}
+
+/* Every file under out/<job>/<folder>, by name, as add_output. */
+static int add_outputs_under(const plm_batch *b, int job, const char *folder, cJSON *files)
+{
+    char dir[PLM_PATH_MAX], sub[PLM_PATH_MAX];
+    struct dirent **list;
+    plm_batch_job_path(b, job, folder, dir, sizeof dir);
+    int n = scandir(dir, &list, NULL, alphasort), ok = n >= 0 || errno == ENOENT;
+    for (int i = 0; i < n; ++i) {
+        const struct dirent *e = list[i];
+        char path[PLM_PATH_MAX];
+        struct stat st;
+        if (ok && e->d_name[0] != '.' &&
+            (ok = snprintf(sub, sizeof sub, "%s/%s", folder, e->d_name) < (int)sizeof sub &&
+                  plm_batch_job_path(b, job, sub, path, sizeof path) && lstat(path, &st) == 0))
+            ok = S_ISDIR(st.st_mode) ? add_outputs_under(b, job, sub, files) : add_output(b, job, sub, files);
+        free(list[i]);
+    }
+    free(list);
+    return ok;
+}
+
 static cJSON *summary_document(const plm_batch *b, int job, const plm_render_job *rj, double total)
 {
     const plm_batch_job *bj = &b->m.jobs[job];
@@ -289,18 +337,16 @@ static cJSON *summary_document(const plm_batch *b, int job, const plm_render_job
     cJSON_AddNumberToObject(sec, "render", rj->render_seconds);
     cJSON_AddNumberToObject(sec, "write", rj->write_seconds);
     cJSON_AddNumberToObject(sec, "total", total);
+    cJSON_AddBoolToObject(doc, "assets", bj->assets);
     cJSON *files = cJSON_AddObjectToObject(doc, "outputs");
-    for (int i = 0; i < N_OUTPUTS; ++i) {
-        char path[PLM_PATH_MAX], hex[17];
-        long long bytes;
-        plm_batch_job_path(b, job, outputs[i], path, sizeof path);
-        if (!hash_file(path, &bytes, hex)) {
-            cJSON_Delete(doc);
-            return NULL;
-        }
-        cJSON *f = cJSON_AddObjectToObject(files, outputs[i]);
-        cJSON_AddNumberToObject(f, "bytes", (double)bytes);
-        cJSON_AddStringToObject(f, "fnv1a64", hex);
+    int ok = 1;
+    for (int i = 0; ok && i < N_OUTPUTS; ++i)
+        ok = add_output(b, job, outputs[i], files);
+    if (ok && bj->assets)
+        ok = add_outputs_under(b, job, ASSETS, files);
+    if (!ok) {
+        cJSON_Delete(doc);
+        return NULL;
     }
     return doc;
 }
@@ -338,8 +384,13 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
     rj.progress = !quiet;
     rj.cancel = &stop_job;
     rj.discard_interrupted = 1;
+    char resolved[PLM_PATH_MAX], assets[PLM_PATH_MAX];
     plm_batch_job_path(b, job, outputs[0], rj.png, sizeof rj.png);
     plm_batch_job_path(b, job, outputs[1], rj.exr, sizeof rj.exr);
+    plm_batch_job_path(b, job, outputs[2], resolved, sizeof resolved);
+    plm_batch_job_path(b, job, ASSETS, assets, sizeof assets);
+    rj.resolved = resolved;
+    rj.asset_dir = bj->assets ? assets : NULL;
     /* A scheduler stops a task with SIGTERM (time limit, scancel): the render
      * ends at the next tile and the job records that it failed. */
     struct sigaction sa, old_term, old_int;
@@ -360,7 +411,7 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
     double total = plm_bench_seconds() - t0;
     cJSON *summary = summary_document(b, job, &rj, total);
     if (!summary)
-        return finish_failed(b, job, "an output image could not be read back for its hash", 1);
+        return finish_failed(b, job, "an output could not be read back for its hash", 1);
     plm_batch_job_path(b, job, "summary.json", path, sizeof path);
     ok = plm_batch_write_json(path, summary);
     cJSON_Delete(summary);

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_job.h"
+#include "common/fileio.h"
 #include "common/image_io.h"
 #include "common/memory.h"
 #include "scene/scene_file.h"
@@ -66,6 +67,32 @@ static void job_memory(plm_render_job *job, int library_loaded_before)
     job->scene_mib = fmax(peak_before, job->peak_mib - added) - job->before_mib;
 }
 
+/* The resolved scene as rendered: its film says what the job's options
+ * changed, and names no output files (re-rendering it must not write over
+ * the files it was rendered to; give -o). */
+static plm_result write_resolved(const plm_render_job *job, const plm_scene *scene, cJSON *resolved, plm_error *err)
+{
+    cJSON *film = cJSON_GetObjectItemCaseSensitive(resolved, "film");
+    if (!film)
+        film = cJSON_AddObjectToObject(resolved, "film");
+    const char *const keys[] = {"width", "height", "spp", "seed", "max_depth", "exposure", "png", "exr"};
+    for (int k = 0; film && k < 8; ++k)
+        cJSON_DeleteItemFromObjectCaseSensitive(film, keys[k]);
+    const plm_film_desc *f = &scene->film;
+    int ok = film && cJSON_AddNumberToObject(film, "width", job->width > 0 ? job->width : f->width) &&
+             cJSON_AddNumberToObject(film, "height", job->width > 0 ? job->height : f->height) &&
+             cJSON_AddNumberToObject(film, "spp", job->spp > 0 ? job->spp : f->spp) &&
+             cJSON_AddNumberToObject(film, "seed", job->seed >= 0 ? (double)job->seed : (double)f->seed) &&
+             cJSON_AddNumberToObject(film, "max_depth", job->max_depth >= 0 ? job->max_depth : f->max_depth) &&
+             cJSON_AddNumberToObject(film, "exposure", job->exposure_given ? job->exposure : f->exposure);
+    char *text = ok ? cJSON_Print(resolved) : NULL;
+    if (!text)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory writing %s", job->resolved);
+    plm_result rc = plm_write_file(job->resolved, text, strlen(text), err);
+    cJSON_free(text);
+    return rc;
+}
+
 int plm_render_job_run(plm_render_job *job)
 {
     plm_error err = {{0}};
@@ -77,8 +104,16 @@ int plm_render_job_run(plm_render_job *job)
     double library_before, unused;
     plm_image_library_memory(&library_before, &unused);
     double t0 = plm_bench_seconds();
-    if (plm_scene_load_with(job->scene, job->sets, job->n_sets, &scene, &err) != PLM_OK)
+    cJSON *resolved = NULL;
+    plm_scene_load_options lo = {job->sets, job->n_sets, job->resolved ? &resolved : NULL, job->asset_dir};
+    if (plm_scene_load_ex(job->scene, &lo, &scene, &err) != PLM_OK)
         return job_failed(job, &err);
+    plm_result written = resolved ? write_resolved(job, &scene, resolved, &err) : PLM_OK;
+    cJSON_Delete(resolved);
+    if (written != PLM_OK) {
+        plm_scene_free(&scene);
+        return job_failed(job, &err);
+    }
     if (job->width > 0) {
         scene.film.width = job->width;
         scene.film.height = job->height;

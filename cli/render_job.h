@@ -22,6 +22,8 @@ typedef struct plm_render_job {
     char png[PLM_PATH_MAX], exr[PLM_PATH_MAX]; /* both "": the scene's film.png/exr (see plm_render_job_run) */
     volatile sig_atomic_t *cancel;
     int discard_interrupted; /* batch jobs: a cancelled render writes no image */
+    const char *resolved;    /* if set: the resolved scene is written here (docs/batch.md) */
+    const char *asset_dir;   /* if set: each generated feather's files go into a folder here */
     /* outputs */
     int out_width, out_height, out_spp;
     unsigned long long out_seed;

@@ -16,6 +16,8 @@
 typedef struct plm_json_reader {
     const char *file; /* shown in messages */
     plm_error *err;   /* may be NULL */
+    int record_paths; /* scene files: write each resolved path back into the tree, absolute
+                         (the resolved scene of scene/scene_file.h) */
 } plm_json_reader;
 
 /* Parses a file; on a syntax error the message gives the line and column.

@@ -268,7 +268,7 @@ plm_result plm_outline_init(plm_outline *o, const plm_shape *shape, const char *
             plm_outline_row_at(o, o->vane_base + i / 64.0 * o->vane_length, &row);
             for (int j = 1; j <= 32; ++j) {
                 if (1.0 - rise(o, &row, side, o->widest[side] * j / 32.0).fy < 0.2) {
-                    plm_json_reader r = {file ? file : "(species)", err};
+                    plm_json_reader r = {file ? file : "(species)", err, 0};
                     return plm_json_fail(&r, "shape.barbs", "angle_tip",
                                          "barb angles change too fast along the rachis for vanes this wide (barbs "
                                          "would cross); bring angle_base and angle_tip closer or the feather longer");

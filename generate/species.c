@@ -348,7 +348,7 @@ static plm_result parse_species(const species_reader *r, const cJSON *root, plm_
 plm_result plm_species_parse_at(const cJSON *root, const char *file, const char *path, plm_species *out,
                                 plm_error *err)
 {
-    species_reader r = {{file, err}, path ? path : ""};
+    species_reader r = {{file, err, 0}, path ? path : ""};
     plm_species_default(out);
     plm_result rc = parse_species(&r, root, out);
     if (rc == PLM_OK)
@@ -410,7 +410,7 @@ static plm_result check_ranges(const species_reader *r, const plm_species *s)
 
 plm_result plm_species_validate_at(const plm_species *s, const char *file, const char *prefix, plm_error *err)
 {
-    species_reader sr = {{file ? file : "(species)", err}, prefix ? prefix : ""};
+    species_reader sr = {{file ? file : "(species)", err, 0}, prefix ? prefix : ""};
     const plm_json_reader *r = &sr.json;
     char path[PLM_SPECIES_PATH_MAX];
     const plm_shape *sh = &s->shape;

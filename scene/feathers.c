@@ -64,7 +64,7 @@ static plm_result read_species(const plm_feather_request *q, plm_species *specie
         const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
         if (!optics)
             optics = cJSON_AddObjectToObject(root, "optics");
-        plm_json_reader r = {q->species, err};
+        plm_json_reader r = {q->species, err, 0};
         char path[PLM_SPECIES_PATH_MAX];
         snprintf(path, sizeof path, "%s%soptics", at, at[0] ? "." : "");
         rc = optics ? plm_feather_optics_read(&r, optics, path, optics_keys, feather)
@@ -86,7 +86,6 @@ static double extent_y(const plm_mesh *m)
     return hi > lo ? hi - lo : 0.0;
 }
 
-/* Generates the feather and adds its two meshes and two materials. */
 /* An earlier feather's parameters read from the same optics block, or NULL. */
 static struct plm_feather_params *same_optics(const plm_feather_cache *c, const plm_scene *scene, const cJSON *optics)
 {
@@ -96,6 +95,21 @@ static struct plm_feather_params *same_optics(const plm_feather_cache *c, const 
     return NULL;
 }
 
+/* The feather's files in its own folder of the cache's asset folder. */
+static plm_result write_assets(const plm_feather_cache *cache, const char *name, const plm_feather *f,
+                               const cJSON *optics, plm_error *err)
+{
+    char dir[PLM_PATH_MAX];
+    int n = snprintf(dir, sizeof dir, "%s/%02d-%s", cache->asset_dir, cache->count, name);
+    if (n >= (int)sizeof dir)
+        return plm_fail(err, PLM_ERR_INVALID, "%s: the asset folder's path is too long", cache->asset_dir);
+    for (char *c = dir + n - strlen(name); *c; ++c)
+        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-", *c))
+            *c = '_';
+    return plm_feather_write(f, optics, dir, NULL, err);
+}
+
+/* Generates the feather and adds its two meshes and two materials. */
 static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, const char *name,
                            const plm_feather_request *q, plm_feather_parts *out, cJSON **optics, plm_error *err)
 {
@@ -138,6 +152,8 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
     int has_pigment = pg->band_count > 0 || pg->tip_length > 0.0 || pg->barb_jitter > 0.0;
     plm_feather_options options = {q->level, q->texture_size, q->texture_size, 0, 0, !has_pigment};
     rc = plm_feather_generate(&species, &options, &f, err);
+    if (rc == PLM_OK && cache->asset_dir)
+        rc = write_assets(cache, name, &f, *optics, err);
     if (rc == PLM_OK) {
         rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
                                              err);

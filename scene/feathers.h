@@ -45,6 +45,10 @@ typedef struct plm_feather_cache_entry plm_feather_cache_entry;
 typedef struct plm_feather_cache {
     plm_feather_cache_entry *entries;
     int count, capacity;
+    /* NULL, or where each feather's files go as it is generated
+     * (plm_feather_write): into asset_dir/<NN>-<name>, NN its place in the
+     * cache and the name's characters outside [A-Za-z0-9._-] replaced by '_'. */
+    const char *asset_dir;
 } plm_feather_cache;
 
 /* The parts of the requested feather, generated into scene on the first

@@ -106,10 +106,7 @@ static plm_result read_species(const plm_json_reader *r, const cJSON *obj, const
         double weight = 1.0;
         plm_result rc = PLM_OK;
         if (cJSON_IsString(e)) {
-            cJSON *wrap = cJSON_CreateObject();
-            cJSON_AddStringToObject(wrap, "file", e->valuestring);
-            rc = plm_scene_read_path(r, wrap, epath, "file", 1, out->file[i]);
-            cJSON_Delete(wrap);
+            rc = plm_scene_read_path_item(r, e, epath, NULL, out->file[i]);
         } else {
             rc = plm_json_check_object(r, e, epath, keys);
             if (rc == PLM_OK)

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "scene/scene_file.h"
 
@@ -32,9 +33,10 @@ typedef struct loader {
     named_feather *feathers;
     int feather_count, feather_capacity;
     int layout_count;
+    int record; /* build the resolved scene (plm_scene_load_ex) */
 } loader;
 
-static plm_result load_file(loader *ld, const char *path, int depth);
+static plm_result load_file(loader *ld, const char *path, int depth, cJSON *parent_includes);
 
 /* dir(base)/rel unless rel is absolute or base has no directory. */
 static void resolve_path(const char *base, const char *rel, char *out)
@@ -44,6 +46,29 @@ static void resolve_path(const char *base, const char *rel, char *out)
         snprintf(out, PLM_PATH_MAX, "%s", rel);
     else
         snprintf(out, PLM_PATH_MAX, "%.*s/%s", (int)(slash - base), base, rel);
+}
+
+plm_result plm_scene_read_path_item(const plm_json_reader *r, const cJSON *item, const char *path, const char *key,
+                                    char *out)
+{
+    if (!cJSON_IsString(item))
+        return plm_json_fail(r, path, key, "expected a file path (a string)");
+    if (!item->valuestring[0])
+        return plm_json_fail(r, path, key, "expected a non-empty file path");
+    resolve_path(r->file, item->valuestring, out);
+    if (!r->record_paths)
+        return PLM_OK;
+    /* The resolved scene lives elsewhere: it names every file absolutely.
+     * The tree being recorded is the loader's own copy (load_file). */
+    char absolute[PLM_PATH_MAX], cwd[PLM_PATH_MAX];
+    if (out[0] == '/')
+        snprintf(absolute, sizeof absolute, "%s", out);
+    else if (!getcwd(cwd, sizeof cwd) ||
+             snprintf(absolute, sizeof absolute, "%s/%s", cwd, out) >= (int)sizeof absolute)
+        return plm_json_fail(r, path, key, "the absolute path of \"%s\" is too long", out);
+    if (!cJSON_SetValuestring((cJSON *)item, absolute))
+        return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+    return PLM_OK;
 }
 
 plm_result plm_scene_read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
@@ -57,10 +82,7 @@ plm_result plm_scene_read_path(const plm_json_reader *r, const cJSON *obj, const
         out[0] = '\0';
         return required ? plm_json_fail(r, path, key, "required (a file path)") : PLM_OK;
     }
-    if (!s[0])
-        return plm_json_fail(r, path, key, "expected a non-empty file path");
-    resolve_path(r->file, s, out);
-    return PLM_OK;
+    return plm_scene_read_path_item(r, cJSON_GetObjectItemCaseSensitive(obj, key), path, key, out);
 }
 
 static plm_result read_camera(const plm_json_reader *r, const cJSON *obj, plm_camera_desc *c)
@@ -641,12 +663,13 @@ static plm_result read_feathers(loader *ld, const plm_json_reader *r, const cJSO
     return PLM_OK;
 }
 
-static plm_result read_includes(loader *ld, const plm_json_reader *r, const cJSON *inc, int depth)
+/* includes: where the included files' resolved trees are merged (NULL unless recording). */
+static plm_result read_includes(loader *ld, const plm_json_reader *r, const cJSON *inc, int depth, cJSON *includes)
 {
     if (cJSON_IsString(inc)) {
         char file[PLM_PATH_MAX];
         resolve_path(r->file, inc->valuestring, file);
-        return load_file(ld, file, depth + 1);
+        return load_file(ld, file, depth + 1, includes);
     }
     if (!cJSON_IsArray(inc))
         return plm_json_fail(r, "include", NULL, "expected a file path or an array of file paths");
@@ -656,14 +679,14 @@ static plm_result read_includes(loader *ld, const plm_json_reader *r, const cJSO
             return plm_json_fail(r, "include", NULL, "element %d must be a file path", i);
         char file[PLM_PATH_MAX];
         resolve_path(r->file, e->valuestring, file);
-        plm_result rc = load_file(ld, file, depth + 1);
+        plm_result rc = load_file(ld, file, depth + 1, includes);
         if (rc != PLM_OK)
             return rc;
     }
     return PLM_OK;
 }
 
-static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *root, int depth)
+static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *root, int depth, cJSON *includes)
 {
     static const char *const keys[] = {"include", "camera", "film", "lights", "meshes", "materials", "feathers",
                                        "objects", NULL};
@@ -681,7 +704,7 @@ static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *
         rc = read_film(r, film, &scene->film);
     const cJSON *inc = cJSON_GetObjectItemCaseSensitive(root, "include");
     if (rc == PLM_OK && inc)
-        rc = read_includes(ld, r, inc, depth);
+        rc = read_includes(ld, r, inc, depth, includes);
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (rc == PLM_OK && lights && !cJSON_IsArray(lights))
         rc = plm_json_fail(r, "lights", NULL, "expected an array of lights");
@@ -717,7 +740,51 @@ static plm_result read_scene(loader *ld, const plm_json_reader *r, const cJSON *
     return rc;
 }
 
-static plm_result load_file(loader *ld, const char *path, int depth)
+/* The resolved scene: `from` (a file's tree, or its includes' merged trees)
+ * moved into `into` as the loader reads them. Lists and named blocks keep
+ * the reading order (included files first); of camera and film the first
+ * read wins, which is the including file's (from_wins) or the earlier include's. */
+static plm_result merge_scene(cJSON *into, cJSON *from, int from_wins, plm_error *err)
+{
+    static const char *const keys[] = {"camera", "film", "lights", "meshes", "materials", "feathers", "objects"};
+    int ok = 1;
+    cJSON_DeleteItemFromObjectCaseSensitive(from, "include");
+    for (int k = 0; k < 7; ++k) {
+        cJSON *item = cJSON_DetachItemFromObjectCaseSensitive(from, keys[k]);
+        cJSON *dst = cJSON_GetObjectItemCaseSensitive(into, keys[k]);
+        if (!item)
+            continue;
+        if (!dst || (k < 2 && from_wins)) {
+            cJSON_DeleteItemFromObjectCaseSensitive(into, keys[k]);
+            ok &= cJSON_AddItemToObject(into, keys[k], item);
+            continue;
+        }
+        while (k >= 2 && item->child) {
+            cJSON *e = cJSON_DetachItemViaPointer(item, item->child);
+            ok &= cJSON_IsArray(dst) ? cJSON_AddItemToArray(dst, e) : cJSON_AddItemToObject(dst, e->string, e);
+        }
+        cJSON_Delete(item);
+    }
+    return ok ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for the resolved scene");
+}
+
+/* Reads a file's tree; when recording, its resolved tree (with its own
+ * includes') goes into parent_includes. */
+static plm_result read_recorded(loader *ld, const plm_json_reader *r, cJSON *root, int depth, cJSON *parent_includes)
+{
+    cJSON *includes = ld->record ? cJSON_CreateObject() : NULL;
+    if (ld->record && !includes)
+        return plm_fail(ld->err, PLM_ERR_NO_MEMORY, "out of memory");
+    plm_result rc = read_scene(ld, r, root, depth, includes);
+    if (rc == PLM_OK && ld->record)
+        rc = merge_scene(includes, root, 1, ld->err);
+    if (rc == PLM_OK && ld->record)
+        rc = merge_scene(parent_includes, includes, 0, ld->err);
+    cJSON_Delete(includes);
+    return rc;
+}
+
+static plm_result load_file(loader *ld, const char *path, int depth, cJSON *parent_includes)
 {
     if (depth > MAX_INCLUDE_DEPTH)
         return plm_fail(ld->err, PLM_ERR_INVALID, "%s: include: nested more than %d deep (an include cycle?)",
@@ -726,20 +793,25 @@ static plm_result load_file(loader *ld, const char *path, int depth)
     plm_result rc = plm_json_load(path, &root, ld->err);
     if (rc != PLM_OK)
         return rc;
-    plm_json_reader r = {path, ld->err};
-    rc = read_scene(ld, &r, root, depth);
+    plm_json_reader r = {path, ld->err, ld->record};
+    rc = read_recorded(ld, &r, root, depth, parent_includes);
     cJSON_Delete(root);
     return rc;
+}
+
+static void loader_free(loader *ld)
+{
+    plm_feather_cache_free(&ld->cache);
+    free(ld->feathers);
 }
 
 /* Reads the top-level tree with a fresh loader; the scene is freed on failure. */
 static plm_result load_root(const cJSON *root, const char *name, plm_scene *scene, plm_error *err)
 {
-    loader ld = {scene, err, 0, 0, {0}, NULL, 0, 0, 0};
-    plm_json_reader r = {name, err};
-    plm_result rc = read_scene(&ld, &r, root, 0);
-    plm_feather_cache_free(&ld.cache);
-    free(ld.feathers);
+    loader ld = {scene, err, 0, 0, {0}, NULL, 0, 0, 0, 0};
+    plm_json_reader r = {name, err, 0};
+    plm_result rc = read_scene(&ld, &r, root, 0, NULL);
+    loader_free(&ld);
     if (rc != PLM_OK)
         plm_scene_free(scene);
     return rc;
@@ -764,19 +836,40 @@ plm_result plm_scene_load_buffer(const char *text, size_t length, const char *na
     return rc;
 }
 
+plm_result plm_scene_load_ex(const char *path, const plm_scene_load_options *o, plm_scene *scene, plm_error *err)
+{
+    plm_scene_init(scene);
+    if (o->resolved)
+        *o->resolved = NULL;
+    cJSON *root, *resolved = o->resolved ? cJSON_CreateObject() : NULL;
+    plm_result rc = plm_json_load(path, &root, err);
+    for (int i = 0; rc == PLM_OK && i < o->n_sets; ++i)
+        if ((rc = plm_json_set_assignment(root, o->sets[i], err)) != PLM_OK)
+            plm_error_prefix(err, "%s: --set ", path);
+    if (rc == PLM_OK && o->resolved && !resolved)
+        rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    if (rc == PLM_OK) {
+        loader ld = {scene, err, 0, 0, {0}, NULL, 0, 0, 0, o->resolved != NULL};
+        ld.cache.asset_dir = o->asset_dir;
+        plm_json_reader r = {path, err, ld.record};
+        rc = read_recorded(&ld, &r, root, 0, resolved);
+        loader_free(&ld);
+        if (rc != PLM_OK)
+            plm_scene_free(scene);
+    }
+    cJSON_Delete(root);
+    if (rc == PLM_OK && o->resolved)
+        *o->resolved = resolved;
+    else
+        cJSON_Delete(resolved);
+    return rc;
+}
+
 plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
                                plm_error *err)
 {
-    plm_scene_init(scene);
-    cJSON *root;
-    plm_result rc = plm_json_load(path, &root, err);
-    for (int i = 0; rc == PLM_OK && i < n_sets; ++i)
-        if ((rc = plm_json_set_assignment(root, sets[i], err)) != PLM_OK)
-            plm_error_prefix(err, "%s: --set ", path);
-    if (rc == PLM_OK)
-        rc = load_root(root, path, scene, err);
-    cJSON_Delete(root);
-    return rc;
+    plm_scene_load_options o = {sets, n_sets, NULL, NULL};
+    return plm_scene_load_ex(path, &o, scene, err);
 }
 
 plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err)

@@ -26,6 +26,23 @@ plm_result plm_scene_load(const char *path, plm_scene *scene, plm_error *err);
  * applied to the top file's JSON before it is read. */
 plm_result plm_scene_load_with(const char *path, const char *const *sets, int n_sets, plm_scene *scene,
                                plm_error *err);
+/* What plm_scene_load_ex does besides loading. */
+typedef struct plm_scene_load_options {
+    const char *const *sets; /* "path.to.field=value" assignments, as plm_scene_load_with */
+    int n_sets;
+    /* If not NULL: the resolved scene, one JSON tree that loads alone into the
+     * same scene: the top file after its assignments, with every included
+     * file merged in, in reading order, and every file path made absolute.
+     * The caller deletes it. */
+    cJSON **resolved;
+    /* If not NULL: every generated feather's files (plm_feather_write: meshes,
+     * textures, feather.json) are written into a folder of its own under this
+     * one, named after the feather (plm_feather_cache). */
+    const char *asset_dir;
+} plm_scene_load_options;
+
+plm_result plm_scene_load_ex(const char *path, const plm_scene_load_options *options, plm_scene *scene,
+                             plm_error *err);
 plm_result plm_scene_load_buffer(const char *text, size_t length, const char *name, plm_scene *scene,
                                  plm_error *err);
 plm_result plm_scene_load_json(const cJSON *root, const char *name, plm_scene *scene, plm_error *err);
@@ -43,5 +60,9 @@ plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, c
  * directory of the file r reads. out holds PLM_PATH_MAX characters. */
 plm_result plm_scene_read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
                                int required, char *out);
+/* The same for a string item (an array element); key may be NULL. When r
+ * records paths, the item is rewritten with the absolute path. */
+plm_result plm_scene_read_path_item(const plm_json_reader *r, const cJSON *item, const char *path, const char *key,
+                                    char *out);
 
 #endif

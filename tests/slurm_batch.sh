@@ -61,7 +61,9 @@ for _ in $(seq 300); do [ -e cancel/0001-slow/started.json ] && break; sleep 0.1
 sleep 0.5
 scancel "${cancel_id}_1"
 wait_queue && pass "cancelled array ends" || fail "cancelled array ends"
-if [ ! -e cancel/0001-slow/summary.json ] && [ -z "$(ls -A cancel/0001-slow | grep -vE '^(started|failed)\.json$')" ]; then
+# The resolved scene and the assets are written, complete, before the render starts.
+if [ ! -e cancel/0001-slow/summary.json ] && [ -z "$(ls -A cancel/0001-slow | grep -vE '^(started|failed|scene)\.json$|^assets$')" ] &&
+   [ -z "$(find cancel/0001-slow -name '.*')" ]; then
     pass "the cancelled task left no images, summary or temporaries"
 else fail "the cancelled task left: $(ls -A cancel/0001-slow)"; fi
 grep -q "SIGTERM" cancel/0001-slow/failed.json 2>/dev/null && pass "the cancelled task recorded why" ||

@@ -94,6 +94,18 @@ static void jobs_inherit_and_override(void **state)
     assert_true(again.jobs[0].key != m.jobs[1].key);
     plm_manifest_free(&again);
     plm_manifest_free(&m);
+    /* Assets: on unless the manifest or the job says otherwise; a job's setting is part of its key. */
+    const char *assets = "{\"scene\": \"" SCENE "\", \"assets\": false,"
+                         " \"jobs\": [{}, {\"assets\": true}, {\"assets\": false}]}";
+    assert_int_equal(parse(assets, &m, &err), PLM_OK);
+    assert_int_equal(m.jobs[0].assets, 0);
+    assert_int_equal(m.jobs[1].assets, 1);
+    assert_int_equal(m.jobs[2].assets, 0);
+    assert_true(m.jobs[0].key != m.jobs[1].key);
+    plm_manifest_free(&m);
+    assert_int_equal(parse("{\"scene\": \"" SCENE "\", \"jobs\": [{}]}", &m, &err), PLM_OK);
+    assert_int_equal(m.jobs[0].assets, 1);
+    plm_manifest_free(&m);
 }
 
 static void bad_manifests_name_the_field(void **state)
@@ -103,7 +115,7 @@ static void bad_manifests_name_the_field(void **state)
         const char *text, *message;
     } cases[] = {
         {"{\"scene\": \"" SCENE "\", \"jobz\": []}", "/tmp/m.json: jobz: unknown field (allowed: scene, output, spp, "
-                                                    "resolution, seed, set, jobs, sweep)"},
+                                                    "resolution, seed, assets, set, jobs, sweep)"},
         {"{\"scene\": \"" SCENE "\", \"sweep\": {}}", "/tmp/m.json: sweep: expected a non-empty object of "
                                                      "\"path.to.field\": [values...]"},
         {"{\"scene\": \"" SCENE "\", \"sweep\": {\"camera.fov\": 3}}",

@@ -113,7 +113,7 @@ static void json_errors_name_file_field_and_range(void **state)
 
     const char *good = write_temp("good.json", "{\"camera\": {\"fov\": 200, \"extra\": true}}");
     assert_int_equal(plm_json_load(good, &root, &err), PLM_OK);
-    plm_json_reader r = {"scene.json", &err};
+    plm_json_reader r = {"scene.json", &err, 0};
     const cJSON *camera = cJSON_GetObjectItem(root, "camera");
     double fov;
     assert_int_equal(plm_json_number(&r, camera, "camera", "fov", 40, 1, 179, &fov), PLM_ERR_INVALID);
@@ -274,7 +274,7 @@ static void parameter_tables_read_check_and_print(void **state)
     const plm_param_block block = {"test", "a test block", params, 5};
     static const char *const extra[] = {"note", NULL};
     plm_error err = {{0}};
-    plm_json_reader r = {"t.json", &err};
+    plm_json_reader r = {"t.json", &err, 0};
     table_target t = {1.0, 0.0, 3, 7, {0, 0, 1}};
     cJSON *obj = cJSON_Parse("{\"angle\": 30, \"count\": 4, \"seed\": 9, \"note\": \"read elsewhere\"}");
     assert_int_equal(plm_params_read(&r, obj, "block", &block, extra, &t), PLM_OK);
