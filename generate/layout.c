@@ -70,8 +70,10 @@ void plm_species_variant(const plm_species *base, int variant, uint64_t seed, pl
  * vertices lie on the same surfaces as any finer level's. */
 typedef struct extent {
     plm_mesh mesh[2];  /* vane, rachis */
-    double (*hull)[2]; /* convex hull of the vertices' (y, z): all a tilt about x can bring lowest */
+    double (*hull)[3]; /* convex hull of the vertices' (y, z): all a tilt about x can bring lowest;
+                          third, the squared distance from the origin of a vertex there */
     int hull_count;
+    double w_min;      /* the smallest squared distance of any vertex from the origin */
     double length, rachis_radius;
 } extent;
 
@@ -96,9 +98,9 @@ static double turn(const double *o, const double *a, const double *b)
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-/* Convex hull of n points (Andrew's monotone chain) into h, which has room
- * for 2n; returns its size. Sorts p. */
-static int convex_hull(double (*p)[2], int n, double (*h)[2])
+/* Convex hull of n points (Andrew's monotone chain) of their first two
+ * coordinates into h, which has room for 2n; returns its size. Sorts p. */
+static int convex_hull(double (*p)[3], int n, double (*h)[3])
 {
     qsort(p, (size_t)n, sizeof *p, compare_point);
     int k = 0;
@@ -118,17 +120,21 @@ static int convex_hull(double (*p)[2], int n, double (*h)[2])
 static plm_result hull_of(extent *e, plm_error *err)
 {
     int n = e->mesh[0].vertex_count + e->mesh[1].vertex_count;
-    double(*p)[2] = malloc(sizeof *p * (size_t)n);
+    double(*p)[3] = malloc(sizeof *p * (size_t)n);
     e->hull = malloc(sizeof *e->hull * 2 * (size_t)n);
     if (!p || !e->hull) {
         free(p);
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a layout's prototype extents");
     }
     int k = 0;
+    e->w_min = INFINITY;
     for (int m = 0; m < 2; ++m)
         for (int i = 0; i < e->mesh[m].vertex_count; ++i, ++k) {
-            p[k][0] = e->mesh[m].positions[3 * i + 1];
-            p[k][1] = e->mesh[m].positions[3 * i + 2];
+            const float *v = e->mesh[m].positions + 3 * i;
+            p[k][0] = v[1];
+            p[k][1] = v[2];
+            p[k][2] = (double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2];
+            e->w_min = fmin(e->w_min, p[k][2]);
         }
     e->hull_count = convex_hull(p, n, e->hull);
     free(p);
@@ -358,6 +364,34 @@ static double surface_height(const surface *sf, const surface_point *root, vec3 
     return v3_dot(v3_sub(q, root->p), root->n);
 }
 
+/* Whether every vertex of the placed feather stands at least `margin` above
+ * the sphere. A vertex (x, y, z) lies at |q|^2 = a^2 + 2 a s h + s^2 w from
+ * the centre, with a = |origin| = R + r s, h = y sin(alpha) + z cos(alpha)
+ * and w = x^2 + y^2 + z^2. The hull's lowest h with the smallest w bounds
+ * the lowest vertex from below, the hull's own vertices from above: only
+ * when margin lies between the two are all vertices checked. The answer is
+ * the full check's (docs/layouts.md). */
+static int clear_of_sphere(const surface *sf, const extent *e, const plm_layout_instance *in, double scale,
+                           double alpha, double margin)
+{
+    double a = sf->radius + e->rachis_radius * scale, sa = sin(alpha), ca = cos(alpha), h_min = INFINITY;
+    double upper = INFINITY, need = (sf->radius + margin) * (sf->radius + margin);
+    for (int i = 0; i < e->hull_count; ++i) {
+        double h = e->hull[i][0] * sa + e->hull[i][1] * ca;
+        h_min = fmin(h_min, h);
+        upper = fmin(upper, a * a + 2.0 * a * scale * h + scale * scale * e->hull[i][2]);
+    }
+    if (a * a + 2.0 * a * scale * h_min + scale * scale * e->w_min >= need)
+        return 1;
+    if (upper < need)
+        return 0;
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < e->mesh[k].vertex_count; ++i)
+            if (surface_height(sf, NULL, apply(in, e->mesh[k].positions + 3 * i)) < margin)
+                return 0;
+    return 1;
+}
+
 /* ---- Blue noise: dart throwing with a hashed grid ---- */
 
 typedef struct dart_grid {
@@ -448,20 +482,20 @@ static void place_on_surface(const surface *sf, const surface_point *root, const
         vec3 tt = v3_add(v3_scale(t, cos(alpha)), v3_scale(n, sin(alpha)));
         vec3 z = v3_sub(v3_scale(n, cos(alpha)), v3_scale(t, sin(alpha)));
         set_matrix(in, v3_cross(tt, z), tt, z, origin, scale);
-        double lowest = INFINITY;
+        int clear;
         if (sf->s->kind == PLM_SURFACE_SPHERE) {
-            for (int k = 0; k < 2; ++k)
-                for (int i = 0; i < e->mesh[k].vertex_count; ++i)
-                    lowest = fmin(lowest, surface_height(sf, root, apply(in, e->mesh[k].positions + 3 * i)));
+            clear = clear_of_sphere(sf, e, in, scale, alpha, margin);
         } else {
             /* Above a tangent plane a feather point (x, y, z) stands at
              * scale (r + y sin(alpha) + z cos(alpha)): x plays no part, and
              * the lowest point is a vertex of the (y, z) hull. */
+            double lowest = INFINITY;
             for (int i = 0; i < e->hull_count; ++i)
                 lowest = fmin(lowest, scale * (e->rachis_radius + e->hull[i][0] * sin(alpha) +
                                                e->hull[i][1] * cos(alpha)));
+            clear = lowest >= margin;
         }
-        if (lowest >= margin || alpha >= max_elevation)
+        if (clear || alpha >= max_elevation)
             break;
         alpha = fmin(alpha + step, max_elevation);
     }
