@@ -3,9 +3,11 @@
  * over a plane at 512x256 and (c) a close-up of one feather whose vane fills
  * the 256x256 frame, all under an environment map with maximum depth 16; and
  * a trace-only pass (same camera rays and bounce count, no shading) so the
- * shading overhead shows as a ratio. The feather is generated from a
- * species preset, or (--vane-quad) a curled quad cut out by an analytic
- * feather texture. */
+ * shading overhead shows as a ratio. With --bcsdf both each case renders
+ * with the tabulated, then the stochastic estimator on the same world before
+ * the trace-only pass, so all their ratios come from one run. The feather is
+ * generated from a species preset, or (--vane-quad) a curled quad cut out by
+ * an analytic feather texture. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -160,8 +162,33 @@ static int build_scene(plm_scene *s, int feathers, int closeup, int width, int h
 typedef struct bench_options {
     int threads, spp, feathers, diffuse, vane_quad, downscale, shaded_only;
     const char *species, *images, *bcsdf, *cases;
-    plm_bcsdf_kind kind;
+    int kinds;                /* how many estimators to run: 1, or 2 for "both" */
+    plm_bcsdf_kind kind[2];
 } bench_options;
+
+static const char *kind_name(plm_bcsdf_kind k) { return k == PLM_BCSDF_STOCHASTIC ? "stochastic" : "tabulated"; }
+
+static void set_kind(plm_scene *scene, plm_bcsdf_kind kind)
+{
+    for (int i = 0; i < scene->material_count; ++i)
+        if (scene->materials[i].feather)
+            scene->materials[i].feather->bcsdf = kind;
+}
+
+/* One row: the shaded film's rates against the trace-only film's. */
+static void print_row(const char *label, const char *kind, const plm_film *shaded, const plm_film *traced, int spp,
+                      double build)
+{
+    double per_thread = 1.0 / shaded->threads;
+    double samples_rate = shaded->sample_count / shaded->seconds * per_thread;
+    double shaded_rays = shaded->ray_count / shaded->seconds * per_thread;
+    double traced_rays = traced->ray_count / traced->seconds * per_thread;
+    printf("%-30s %-10s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f %9.2f\n", label, kind, shaded->width,
+           shaded->height, spp, shaded->threads, samples_rate, shaded_rays, traced_rays, traced_rays / shaded_rays, build,
+           plm_memory_peak_mib(), shaded->seconds);
+    if (shaded->nonfinite)
+        printf("  (%lld non-finite samples dropped)\n", shaded->nonfinite);
+}
 
 static int run_case(const char *label, const char *tag, int feathers, int width, int height, const bench_options *o)
 {
@@ -177,9 +204,9 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
         plm_scene_free(&scene);
         return 1;
     }
-    for (int i = 0; i < scene.material_count; ++i)
-        if (scene.materials[i].feather)
-            scene.materials[i].feather->bcsdf = o->kind;
+    /* The world is built for the first estimator; a tabulated one first
+     * builds the tables, which the stochastic one then leaves unused. */
+    set_kind(&scene, o->kind[0]);
     plm_world world;
     double t0 = plm_bench_seconds();
     if (plm_world_build(&scene, &world, &err) != PLM_OK) {
@@ -191,30 +218,31 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
     plm_render_options opt = {0};
     opt.threads = o->threads;
     opt.spp = o->spp;
-    plm_film shaded, traced;
-    plm_render_world(&world, &opt, &shaded, &err);
-    if (o->images) { /* to look at what was measured, and to compare (EXR) */
-        char png[4096], exr[4096];
-        snprintf(png, sizeof png, "%s_%s.png", o->images, tag);
-        snprintf(exr, sizeof exr, "%s_%s.exr", o->images, tag);
-        if (plm_film_write(&shaded, exr, png, 0.0, &err) != PLM_OK)
-            fprintf(stderr, "error: %s\n", err.message);
+    plm_film shaded[2], traced;
+    for (int k = 0; k < o->kinds; ++k) {
+        set_kind(&scene, o->kind[k]);
+        plm_render_world(&world, &opt, &shaded[k], &err);
+        if (o->images) { /* to look at what was measured, and to compare (EXR) */
+            char png[4096], exr[4096];
+            const char *suffix = o->kinds > 1 ? kind_name(o->kind[k]) : "";
+            snprintf(png, sizeof png, "%s_%s%s%s.png", o->images, tag, *suffix ? "_" : "", suffix);
+            snprintf(exr, sizeof exr, "%s_%s%s%s.exr", o->images, tag, *suffix ? "_" : "", suffix);
+            if (plm_film_write(&shaded[k], exr, png, 0.0, &err) != PLM_OK)
+                fprintf(stderr, "error: %s\n", err.message);
+        }
     }
     opt.trace_only = 1;
     if (o->shaded_only)
         traced = (plm_film){.ray_count = 0, .seconds = 1.0};
     else
         plm_render_world(&world, &opt, &traced, &err);
-    double per_thread = 1.0 / shaded.threads;
-    double samples_rate = shaded.sample_count / shaded.seconds * per_thread;
-    double shaded_rays = shaded.ray_count / shaded.seconds * per_thread;
-    double traced_rays = traced.ray_count / traced.seconds * per_thread;
-    printf("%-30s %4dx%-4d %4d %7d %16.0f %14.0f %14.0f %9.2f %8.3f %9.1f %9.2f\n", label, width, height, o->spp,
-           shaded.threads, samples_rate, shaded_rays, traced_rays, traced_rays / shaded_rays, build,
-           plm_memory_peak_mib(), shaded.seconds);
-    if (shaded.nonfinite)
-        printf("  (%lld non-finite samples dropped)\n", shaded.nonfinite);
-    plm_film_free(&shaded);
+    for (int k = 0; k < o->kinds; ++k)
+        print_row(label, kind_name(o->kind[k]), &shaded[k], &traced, o->spp, build);
+    if (o->kinds > 1)
+        printf("%-30s tabulated samples/s over stochastic: %.2f\n", "",
+               (shaded[0].sample_count / shaded[0].seconds) / (shaded[1].sample_count / shaded[1].seconds));
+    for (int k = 0; k < o->kinds; ++k)
+        plm_film_free(&shaded[k]);
     plm_film_free(&traced);
     plm_world_free(&world);
     plm_scene_free(&scene);
@@ -224,7 +252,7 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
 int bench_render(int argc, char **argv)
 {
     bench_options o = {0, 16, 2500, 0, 0, 1, 0, "presets/species/covert_parrot.json", NULL, "tabulated", "abc",
-                       PLM_BCSDF_TABULATED};
+                       1, {PLM_BCSDF_TABULATED, PLM_BCSDF_STOCHASTIC}};
     plm_option opts[] = {
         {"--threads", PLM_OPT_INT, &o.threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
         {"--spp", PLM_OPT_INT, &o.spp, 0, 1, 65536, NULL, "N", "samples per pixel of each pass (default 16)", 0},
@@ -237,7 +265,8 @@ int bench_render(int argc, char **argv)
         {"--images", PLM_OPT_STRING, &o.images, 0, 0, 0, NULL, "PREFIX",
          "also write the shaded images as PREFIX_a.png, PREFIX_a.exr and so on", 0},
         {"--bcsdf", PLM_OPT_STRING, &o.bcsdf, 0, 0, 0, NULL, "NAME",
-         "the fiber estimator: tabulated (default) or stochastic (docs/fiber.md)", 0},
+         "the fiber estimator: tabulated (default), stochastic (docs/fiber.md) or both (the same world, one after\n"
+         "the other, and their samples/s ratio)", 0},
         {"--cases", PLM_OPT_STRING, &o.cases, 0, 0, 0, NULL, "LETTERS", "which cases to run (default abc)", 0},
         {"--downscale", PLM_OPT_INT, &o.downscale, 0, 1, 64, NULL, "N",
          "divide each case's width and height by N (for expensive references)", 0},
@@ -257,12 +286,14 @@ int bench_render(int argc, char **argv)
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
-    if (strcmp(o.bcsdf, "tabulated") != 0 && strcmp(o.bcsdf, "stochastic") != 0) {
-        fprintf(stderr, "error: --bcsdf %s: must be tabulated or stochastic\n", o.bcsdf);
+    if (strcmp(o.bcsdf, "tabulated") != 0 && strcmp(o.bcsdf, "stochastic") != 0 && strcmp(o.bcsdf, "both") != 0) {
+        fprintf(stderr, "error: --bcsdf %s: must be tabulated, stochastic or both\n", o.bcsdf);
         return 2;
     }
-    o.kind = strcmp(o.bcsdf, "stochastic") == 0 ? PLM_BCSDF_STOCHASTIC : PLM_BCSDF_TABULATED;
-    printf("%-30s %9s %4s %7s %16s %14s %14s %9s %8s %9s %9s\n", "scene", "size", "spp", "threads",
+    if (strcmp(o.bcsdf, "stochastic") == 0)
+        o.kind[0] = PLM_BCSDF_STOCHASTIC;
+    o.kinds = strcmp(o.bcsdf, "both") == 0 ? 2 : 1;
+    printf("%-30s %-10s %9s %4s %7s %16s %14s %14s %9s %8s %9s %9s\n", "scene", "bcsdf", "size", "spp", "threads",
            "samples/s/thread", "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB", "shaded s");
     char one[64], pelt[64];
     snprintf(one, sizeof one, "(a) one feather%s", o.vane_quad ? " (vane quad)" : "");

@@ -100,4 +100,14 @@ expect_stderr "missing scene file" "nothing.json" "$PLUMAGE" render nothing.json
 expect_stderr "unknown option" "--frobnicate" "$PLUMAGE" render ok.json --frobnicate
 expect_stderr "spp out of range" "--spp.*\[1, " "$PLUMAGE" render ok.json --spp 0
 expect_fail "no scene" "$PLUMAGE" render
+
+# bench render --bcsdf both: a row per estimator on one world, and their samples/s ratio.
+expect_ok "bench render, both estimators" "$PLUMAGE" bench render --vane-quad --cases c --downscale 16 --spp 1 \
+    --bcsdf both --images both
+rows=$(grep -Ec "^\(c\) close-up of one feather +(tabulated|stochastic) " out.txt)
+[ "$rows" = 2 ] && grep -q "tabulated samples/s over stochastic" out.txt && pass "a row per estimator and the ratio" ||
+    fail "a row per estimator and the ratio: $(cat out.txt)"
+expect_image "both estimators' images" 16 16 both_c_tabulated.exr both_c_stochastic.exr
+expect_stderr "bench render, unknown estimator" "--bcsdf exact: must be tabulated, stochastic or both" \
+    "$PLUMAGE" bench render --bcsdf exact
 finish
