@@ -30,9 +30,9 @@ typedef struct plm_hit {
     vec2 uv;
     rgb tint;        /* per-instance colour variation */
     const plm_material *material;
-    /* The pixel cone that found the hit: its width at p (world units;
-     * INFINITY after a scattering event or with film.far_field) and the ray
-     * direction. */
+    /* The pixel cone that found the hit: its width at p (world units; 0 for
+     * none: after a scattering event, in shadow queries, with
+     * film.far_field) and the ray direction. */
     double cone_width;
     vec3 ray_dir;
     /* Set by plm_material_surface: whether the hit lies on a feather's vane,

@@ -53,7 +53,7 @@ plm_barb_window plm_nearfield_at(const plm_feather_texture *t, vec2 uv, vec3 dpd
                                  double width)
 {
     plm_barb_sample s;
-    if (!(width < INFINITY) || !plm_feather_texture_barb(t, uv, &s))
+    if (!(width > 0.0 && width < INFINITY) || !plm_feather_texture_barb(t, uv, &s))
         return plm_nearfield_far();
     vec3 g = plm_nearfield_gradient(s.gradient, dpdu, dpdv);
     if (!(v3_dot(g, g) > 0.0)) /* no barbs to resolve */

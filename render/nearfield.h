@@ -34,7 +34,7 @@ plm_barb_window plm_nearfield_window(double coordinate, double footprint, double
 
 /* All of the above at a vane point: the texture's coordinate at uv, the
  * cone of `width` arriving along d; the far field when the texture has no
- * coordinate or width is not finite. */
+ * coordinate or there is no cone (width 0, or not finite). */
 plm_barb_window plm_nearfield_at(const plm_feather_texture *t, vec2 uv, vec3 dpdu, vec3 dpdv, vec3 n, vec3 d,
                                  double width);
 

@@ -49,8 +49,8 @@ typedef struct query_context {
 static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, double cone_width,
                      vec3 d, plm_hit *hit);
 
-/* The pixel cone's width at distance t (t is the world one, in instances too). */
-static double cone_width(const query_context *ctx, double t) { return ctx->spread > 0.0 ? ctx->spread * t : INFINITY; }
+/* The pixel cone's width at distance t (t is the world one, in instances too); 0: no cone. */
+static double cone_width(const query_context *ctx, double t) { return ctx->spread * t; }
 
 /* Intersection and occlusion filter. Background texels of the mask are not
  * there at all, so Embree goes on to the next candidate. In a transparent

@@ -197,9 +197,10 @@ static void windows_filter_without_changing_the_mean(void **state)
     }
 }
 
-/* Seen along the normal with flat rows (theta_bb = 0), a ray at x meets the
- * barb where |x| < w = 1 / (2 (1 + l_bb)), at h = x / w; elsewhere a barbule
- * row (distal for x > 0) that lets delta / (1 + delta) through. */
+/* Seen along the normal with flat rows (theta_bb = 0), from either side, a
+ * ray at x meets the barb where |x| < w = 1 / (2 (1 + l_bb)), at h = +-x / w
+ * (h runs along (d_y, -d_x)); elsewhere a barbule row (distal for x > 0)
+ * that lets delta / (1 + delta) through. */
 static void normal_view_closed_form(void **state)
 {
     (void)state;
@@ -211,14 +212,16 @@ static void normal_view_closed_form(void **state)
     plm_masking_prepare(&p, &model);
     double w = 1.0 / 6.0, t = 0.5 / 1.5;
     const double xs[] = {0.0, 0.1, -0.15, 0.3, -0.3, 0.45, 0.7};
-    for (size_t i = 0; i < sizeof xs / sizeof xs[0]; ++i) {
+    for (size_t k = 0; k < 2 * sizeof xs / sizeof xs[0]; ++k) {
+        size_t i = k / 2;
+        double side = k % 2 ? -1.0 : 1.0;
         plm_masking m;
-        point_masking(&model, v3(0, 1, 0), xs[i], &m);
+        point_masking(&model, v3(0, side, 0), xs[i], &m);
         double x = xs[i] - floor(xs[i] + 0.5); /* within the period around barb 0 */
         if (fabs(x) < w) {
             assert_double_near(m.w_barb, 1.0, 1e-12);
             assert_int_equal(m.barb_range_count, 1);
-            assert_double_near(0.5 * (m.barb[0].hmin + m.barb[0].hmax), x / w, 1e-6);
+            assert_double_near(0.5 * (m.barb[0].hmin + m.barb[0].hmax), side * x / w, 1e-6);
         } else {
             assert_double_near(m.w_barb, 0.0, 1e-12);
             assert_double_near(x > 0 ? m.w_distal : m.w_proximal, 1.0 - t, 1e-12);
@@ -266,6 +269,15 @@ static void texture_coordinate_is_unwrapped(void **state)
         assert_double_near(s.gradient.y, -b * height, 1e-4);
         assert_double_near(s.texel_step, fabs(a), 1e-5);
     }
+    /* At uv (1/2, 1/2), texel (7.5, 5.5): coordinate 1.44, so x = 0.94, the same phase as -0.06. With
+     * dP/du, dP/dv the unit axes, a cone of 1e-4 covers 5.4e-4 of a period, but texels 0.31 of a
+     * period apart widen the window to (0.31 - 0.3) / 0.15; no cone is the far field. */
+    vec3 n = v3(0, 0, 1), d = v3(0, 0, -1);
+    plm_barb_window w = plm_nearfield_at(&tex, v2(0.5, 0.5), v3(1, 0, 0), v3(0, 1, 0), n, d, 1e-4);
+    assert_double_near(0.5 * (w.x0 + w.x1), -0.06, 1e-5);
+    assert_double_near(w.x1 - w.x0, 0.01 / 0.15, 1e-6); /* the texels are floats */
+    w = plm_nearfield_at(&tex, v2(0.5, 0.5), v3(1, 0, 0), v3(0, 1, 0), n, d, 0.0);
+    assert_true(w.x1 - w.x0 >= 1.0);
     plm_feather_texture_free(&tex);
 }
 
