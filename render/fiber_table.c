@@ -91,7 +91,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     int bins = (int)ceil((round_fiber ? 4.0 : 2.0) * PLM_TWO_PI / p->beta_n);
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;
-    t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 32 : 12;
+    t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 40 : 12;
     size_t row_bytes = sizeof(float) * row_floats(t);
     int rows = (int)(PLM_FIBER_TABLE_BUDGET / (row_bytes * (size_t)t->theta_nodes));
     t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 72;
@@ -515,7 +515,9 @@ static int table_sample(const plm_fiber_table_query *q, double u0, double u1, do
     }
     if (hi - lo != 1 || !(b > a))
         return 0;
-    double frac = plm_clamp((target - a) / (b - a), 0.0, 1.0);
+    /* Kept off the bin's edges by far more than rounding moves an angle, so
+     * that wi's own angles find this bin again (pdf(wi) = the record's pdf). */
+    double frac = plm_clamp((target - a) / (b - a), 1e-9, 1.0 - 1e-9);
     *delta = -PLM_PI + (lo + frac) * bin_width(t);
     *theta = plm_fiber_sample_gm(-q->theta_o, t->params.beta_m, u1);
     *wi = plm_fiber_direction(*theta, q->phi_o + (q->flip ? -*delta : *delta));

@@ -19,7 +19,7 @@
 
 #include "render/fiber.h"
 
-#define PLM_FIBER_TABLE_VERSION 3
+#define PLM_FIBER_TABLE_VERSION 4
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
