@@ -4,10 +4,12 @@
  * (wo, wi, h-interval), wi at the lobes and uniform on the sphere.
  * Every fiber must be within 1% per channel (the estimator's accuracy
  * requirement). The table is printed whole before the verdict. Today only
- * most rotationally symmetric fibers meet it: elliptical tables interpolate
- * between phi_o nodes, which blurs caustics that move with the view (see
- * docs/fiber.md). So this test carries the ctest label `target`: .ci/run
- * reports it as a target not yet met instead of failing on it. */
+ * rotationally symmetric fibers meet it, all but one: the tables spread a
+ * cell's mass evenly across the cell and blend neighbouring view nodes,
+ * which smears lobes that move fast with h and the view (docs/fiber.md has
+ * the figures per fiber and per error source). So this test carries the
+ * ctest label `target`: .ci/run reports it as a target not yet met instead
+ * of failing on it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
