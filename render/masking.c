@@ -333,8 +333,8 @@ static void barb_eval(const plm_barb_geometry *g, double t_proximal, double t_di
                    wrap(v.distal.s1, period, inv_period)};
     sort5(b);
     double cut[2 + 2 * 5];
-    int n = 0;
-    if (!window || !(window->x1 - window->x0 < 1.0)) {
+    int n = 0, whole = !window || !(window->x1 - window->x0 < 1.0);
+    if (whole) {
         for (int i = 0; i < 5; ++i)
             cut[n++] = b[i];
         cut[n++] = b[0] + period;
@@ -356,7 +356,8 @@ static void barb_eval(const plm_barb_geometry *g, double t_proximal, double t_di
             }
         cut[n++] = sb;
     }
-    double inv_width = 1.0 / (cut[n - 1] - cut[0]);
+    /* A whole period divides by the period itself, as the far field always has. */
+    double inv_width = whole ? inv_period : 1.0 / (cut[n - 1] - cut[0]);
 
     out->w_barb = out->w_proximal = out->w_distal = out->w_transmission = 0.0;
     out->barb_range_count = 0;
