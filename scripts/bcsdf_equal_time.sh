@@ -3,13 +3,16 @@
 # scenes of `plumage bench render`: a stochastic reference at REF_SPP samples
 # per pixel, the stochastic estimator at SPP, the tabulated one at the sample
 # count that takes the same time, and the RMSE of each against the reference
-# (oiiotool --diff). Also a side-by-side crop of case c (close-up) as a PNG.
+# (oiiotool --diff).
 #
 #   scripts/bcsdf_equal_time.sh PLUMAGE OUTDIR [CASES] [DOWNSCALE] [SPP] [REF_SPP]
 #
 # Run from the repository root (the bench generates the feather from a preset).
 # Defaults: cases abc, downscale 8 (4096 spp references of the full images cost
-# hours on two cores), 16 spp, a 4096 spp reference.
+# hours on two cores), 16 spp, a 4096 spp reference. CASES "crop" instead
+# renders the close-up (c) at full size, stochastic at SPP and tabulated at
+# equal time, and writes their centre 128x128, enlarged twice, side by side
+# (stochastic left) as OUTDIR/close_up_equal_time.png.
 set -euo pipefail
 plumage=$1 out=$2 cases=${3:-abc} down=${4:-8} spp=${5:-16} ref_spp=${6:-4096}
 mkdir -p "$out"
@@ -17,14 +20,27 @@ bench() { # bcsdf spp prefix case -> prints the shaded seconds
     "$plumage" bench render --cases "$4" --bcsdf "$1" --spp "$2" --downscale "$down" --shaded-only \
         --images "$3" | awk 'NR == 2 { print $NF }'
 }
+equal_spp() { # spp seconds-at-spp seconds-of-the-other -> the spp that takes as long as the other
+    awk -v s="$1" -v a="$3" -v b="$2" 'BEGIN { n = int(s * a / b + 0.5); print n < 1 ? 1 : n }'
+}
+if [ "$cases" = crop ]; then
+    down=1
+    ts=$(bench stochastic "$spp" "$out/crop_stochastic" c)
+    n=$(equal_spp "$spp" "$(bench tabulated "$spp" "$out/crop_probe" c)" "$ts")
+    tn=$(bench tabulated "$n" "$out/crop_tabulated" c)
+    printf "close-up 256x256: stochastic %d spp %.2f s, tabulated %d spp %.2f s\n" "$spp" "$ts" "$n" "$tn"
+    oiiotool "$out/crop_stochastic_c.png" --cut 128x128+64+64 --resample 256x256 \
+        "$out/crop_tabulated_c.png" --cut 128x128+64+64 --resample 256x256 \
+        --mosaic:pad=4 2x1 -o "$out/close_up_equal_time.png"
+    exit 0
+fi
 rms() { oiiotool "$1" "$2" --diff 2>&1 | awk '/RMS error/ { print $4 }' || true; }
 printf "%-4s %-10s %6s %9s %12s\n" case bcsdf spp seconds rmse
 for c in $(echo "$cases" | fold -w1); do
     [ -f "$out/ref_$c.exr" ] || bench stochastic "$ref_spp" "$out/ref" "$c" > /dev/null
     ts=$(bench stochastic "$spp" "$out/stochastic" "$c")
-    tt=$(bench tabulated "$spp" "$out/probe" "$c")
     # the tabulated sample count that takes as long as the stochastic render
-    n=$(awk -v s="$spp" -v a="$ts" -v b="$tt" 'BEGIN { n = int(s * a / b + 0.5); print n < 1 ? 1 : n }')
+    n=$(equal_spp "$spp" "$(bench tabulated "$spp" "$out/probe" "$c")" "$ts")
     tn=$(bench tabulated "$n" "$out/tabulated" "$c")
     printf "%-4s %-10s %6d %9.2f %12s\n" "$c" stochastic "$spp" "$ts" "$(rms "$out/ref_$c.exr" "$out/stochastic_$c.exr")"
     printf "%-4s %-10s %6d %9.2f %12s\n" "$c" tabulated "$n" "$tn" "$(rms "$out/ref_$c.exr" "$out/tabulated_$c.exr")"
