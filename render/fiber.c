@@ -93,10 +93,8 @@ static double sample_gm(double Theta, double beta, double u)
     return plm_clamp(Theta + s * erfinv(y), -HALF_PI, HALF_PI);
 }
 
-/* Fills set from a trace at a uniform h in [hmin, hmax]; with only_medulla,
- * keeps the lobes that bounced off the medulla. */
-static void prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng, int only_medulla,
-                    plm_fiber_lobe_set *set)
+void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
+                       plm_fiber_lobe_set *set)
 {
     set->count = 0;
     set->total = 0.0;
@@ -109,7 +107,7 @@ static void prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax
     double inv_s = 1.0 / (SQRT2 * p->beta_m), unit = 1.0 / (SQRT_2PI * p->beta_m);
     for (int i = 0; i < n; ++i) {
         double w = rgb_mean(lobes[i].throughput);
-        if (!(w > 0.0) || (only_medulla && !lobes[i].medulla))
+        if (!(w > 0.0))
             continue; /* black lobes add nothing to eval, pdf or sample */
         int k = set->count++;
         set->theta[k] = plm_safe_asin(lobes[i].dir.z);
@@ -119,18 +117,6 @@ static void prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax
         set->cdf[k + 1] = set->cdf[k] + w;
     }
     set->total = set->cdf[set->count];
-}
-
-void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
-                       plm_fiber_lobe_set *set)
-{
-    prepare(p, wo, hmin, hmax, rng, 0, set);
-}
-
-void plm_fiber_prepare_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
-                               plm_fiber_lobe_set *set)
-{
-    prepare(p, wo, hmin, hmax, rng, 1, set);
 }
 
 double plm_fiber_gm_scale(double beta_m, double Theta)

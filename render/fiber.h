@@ -84,6 +84,28 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
 /* plm_fiber_trace_n with max_lobes = p->lobes (lobes must hold that many). */
 int plm_fiber_trace(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes);
 
+/* Where a path first reaches the medulla. Up to there a path is
+ * deterministic; what leaves the fiber after it depends only on this point
+ * and on how many lobes the path may still store (the medulla table,
+ * render/fiber_medulla_table.h, builds on that). */
+typedef struct plm_fiber_medulla_hit {
+    double t;       /* the medulla point (ca + a cos t, cb + b sin t) */
+    rgb throughput; /* of the light arriving there (before the medulla's albedo) */
+    int lobes;      /* lobes stored before (the surface reflection included), < p->lobes */
+} plm_fiber_medulla_hit;
+
+/* plm_fiber_trace up to the medulla: fills lobes (p->lobes of room) with the
+ * lobes before it and hit; returns 0 if the path stores p->lobes lobes or
+ * dies first, or the fiber has no medulla. */
+int plm_fiber_trace_to_medulla(const plm_fiber_params *p, vec3 wo, double h, plm_fiber_lobe *lobes,
+                               plm_fiber_medulla_hit *hit);
+/* Unit light leaving medulla point t in the diffuse direction of (u1, u2)
+ * in [0, 1)^2 (uniform (u1, u2) give the cosine distribution about the
+ * normal), times the medulla's albedo, traced on as plm_fiber_trace does
+ * (rng drives later bounces) until max_lobes lobes; returns their count. */
+int plm_fiber_trace_from_medulla(const plm_fiber_params *p, double t, double u1, double u2, plm_rng *rng,
+                                 plm_fiber_lobe *lobes, int max_lobes);
+
 /* A traced lobe set: what eval/pdf/sample need, precomputed once. */
 typedef struct plm_fiber_lobe_set {
     int count;
@@ -101,11 +123,6 @@ typedef struct plm_fiber_lobe_set {
  * PLM_FIBER_SET_MAX_LOBES (otherwise the set is left empty). */
 void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
                        plm_fiber_lobe_set *set);
-
-/* plm_fiber_prepare keeping only the lobes that bounced off the medulla: the
- * part of the BCSDF the tabulated estimator leaves to a traced sample. */
-void plm_fiber_prepare_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
-                               plm_fiber_lobe_set *set);
 
 /* The longitudinal detector G_M about Theta: its normalisation 1 / (sqrt(2 pi)
  * beta_m Z), Z the Gaussian's mass inside [-pi/2, pi/2]; its value scale *

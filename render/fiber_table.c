@@ -43,30 +43,49 @@ static double inverse_index(double eta, double sin_theta, double cos_theta)
     return cos_theta / sqrt(eta * eta - sin_theta * sin_theta);
 }
 
-/* The node coordinate (0 .. theta_nodes - 1) of |theta_o| in [0, theta_max],
- * given with its sine and cosine. */
-static double theta_coordinate(const plm_fiber_table *t, double theta, double sin_theta, double cos_theta)
+double plm_fiber_theta_u(double eta, double theta) { return inverse_index(eta, sin(theta), cos(theta)); }
+
+double plm_fiber_theta_coordinate(double eta, double u_last, double theta_max, int nodes, double theta,
+                                  double sin_theta, double cos_theta)
 {
-    double u = inverse_index(t->params.eta, sin_theta, cos_theta);
-    double x = 0.5 * (theta / t->theta_max + (t->u_first - u) / (t->u_first - t->u_last));
-    return plm_clamp(x, 0.0, 1.0) * (t->theta_nodes - 1);
+    double u = inverse_index(eta, sin_theta, cos_theta), u_first = 1.0 / eta;
+    double x = 0.5 * (theta / theta_max + (u_first - u) / (u_first - u_last));
+    return plm_clamp(x, 0.0, 1.0) * (nodes - 1);
 }
 
-/* Node k's |theta_o|: theta_coordinate inverted by bisection (it increases). */
-static double node_theta(const plm_fiber_table *t, int k)
+double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nodes, int k)
 {
-    double lo = 0.0, hi = t->theta_max;
+    double lo = 0.0, hi = theta_max; /* the coordinate inverted by bisection (it increases) */
     for (int i = 0; i < 60; ++i) {
         double mid = 0.5 * (lo + hi);
-        if (theta_coordinate(t, mid, sin(mid), cos(mid)) < k)
+        if (plm_fiber_theta_coordinate(eta, u_last, theta_max, nodes, mid, sin(mid), cos(mid)) < k)
             lo = mid;
         else
             hi = mid;
     }
-    return k == 0 ? 0.0 : k == t->theta_nodes - 1 ? t->theta_max : 0.5 * (lo + hi);
+    return k == 0 ? 0.0 : k == nodes - 1 ? theta_max : 0.5 * (lo + hi);
 }
 
-static int periodic(const plm_fiber_table *t) { return t->symmetry == PLM_FIBER_TABLE_NONE; }
+/* The node coordinate (0 .. theta_nodes - 1) of |theta_o| in [0, theta_max],
+ * given with its sine and cosine. */
+static double theta_coordinate(const plm_fiber_table *t, double theta, double sin_theta, double cos_theta)
+{
+    return plm_fiber_theta_coordinate(t->params.eta, t->u_last, t->theta_max, t->theta_nodes, theta, sin_theta,
+                                      cos_theta);
+}
+
+static double node_theta(const plm_fiber_table *t, int k)
+{
+    return plm_fiber_node_theta(t->params.eta, t->u_last, t->theta_max, t->theta_nodes, k);
+}
+
+void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step)
+{
+    static const double span[] = {0.0, HALF_PI, PLM_PI, PLM_PI, PLM_TWO_PI};
+    static const double lo[] = {0.0, 0.0, -HALF_PI, 0.0, -PLM_PI};
+    *phi_lo = lo[symmetry];
+    *phi_step = phi_nodes > 1 ? span[symmetry] / (phi_nodes - (symmetry != PLM_FIBER_TABLE_NONE)) : 0.0;
+}
 
 /* Resolution and symmetry for p: the defaults of docs/fiber.md unless o sets them. */
 void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table *t)
@@ -88,49 +107,52 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
      * larger than that of two bins per beta_n, and the memory goes to h cells
      * and phi_o nodes (docs/fiber.md has the errors). */
     int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
+    plm_fiber_medulla_layout(p, t->symmetry, o ? &o->medulla : NULL, &t->medulla);
+    size_t budget = PLM_FIBER_TABLE_BUDGET - sizeof(float) * t->medulla.floats; /* the medulla's part first */
     int bins = (int)ceil((round_fiber ? 4.0 : 2.0) * PLM_TWO_PI / p->beta_n);
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;
     t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 40 : 12;
     size_t row_bytes = sizeof(float) * row_floats(t);
-    int rows = (int)(PLM_FIBER_TABLE_BUDGET / (row_bytes * (size_t)t->theta_nodes));
+    int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
     t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 72;
     t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
     t->theta_max = plm_radians(89.0);
     t->u_first = 1.0 / p->eta;
-    t->u_last = inverse_index(p->eta, sin(t->theta_max), cos(t->theta_max));
-    static const double span[] = {0.0, HALF_PI, PLM_PI, PLM_PI, PLM_TWO_PI};
-    static const double lo[] = {0.0, 0.0, -HALF_PI, 0.0, -PLM_PI};
-    double s = span[t->symmetry];
+    t->u_last = plm_fiber_theta_u(p->eta, t->theta_max);
     size_t node_bytes = sizeof(float) * node_floats(t);
-    int nodes = (int)(PLM_FIBER_TABLE_BUDGET / (node_bytes * (size_t)t->theta_nodes));
+    int nodes = (int)(budget / (node_bytes * (size_t)t->theta_nodes));
     nodes = o && o->phi_nodes > 0 ? o->phi_nodes : nodes;
     t->phi_nodes = round_fiber ? 1 : nodes < 3 ? 3 : nodes;
-    t->phi_lo = lo[t->symmetry];
-    t->phi_step = t->phi_nodes > 1 ? s / (t->phi_nodes - !periodic(t)) : 0.0;
-    t->floats = node_floats(t) * (size_t)t->theta_nodes * (size_t)t->phi_nodes;
+    plm_fiber_phi_nodes(t->symmetry, t->phi_nodes, &t->phi_lo, &t->phi_step);
+    t->floats = node_floats(t) * (size_t)t->theta_nodes * (size_t)t->phi_nodes + t->medulla.floats;
 }
 
-static int make_h_nodes(plm_fiber_table *t)
+double *plm_fiber_h_nodes(int cells)
 {
-    t->h_node = malloc(sizeof(double) * (size_t)(t->h_cells + 1));
-    if (!t->h_node)
-        return 0;
-    for (int j = 0; j <= t->h_cells; ++j)
-        t->h_node[j] = sin(-HALF_PI + PLM_PI * j / t->h_cells);
-    t->h_node[0] = -1.0;
-    t->h_node[t->h_cells] = 1.0;
-    return 1;
+    double *node = malloc(sizeof(double) * (size_t)(cells + 1));
+    if (!node)
+        return NULL;
+    for (int j = 0; j <= cells; ++j)
+        node[j] = sin(-HALF_PI + PLM_PI * j / cells);
+    node[0] = -1.0;
+    node[cells] = 1.0;
+    return node;
+}
+
+int plm_fiber_h_sub_samples(double beta_n, int cells)
+{
+    /* Lobes move about 4 radians per radian of asin(h) at most: sub-samples
+     * half a beta_n apart keep the midpoint rule's error far below 1e-4. */
+    int n = (int)ceil(8.0 * PLM_PI / cells / beta_n);
+    return n < 4 ? 4 : n;
 }
 
 /* ---- building ------------------------------------------------------------ */
 
-/* Adds A times the mass of each bin under the wrapped Gaussian of std-dev beta
- * centred at Delta (bins of width w over [-pi, pi)); mass beyond 6 std-devs
- * (2e-9) is left out. */
-static void deposit(double *cell, int bins, double w, double beta, rgb A, double delta)
+void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double delta)
 {
-    double cut = 6.0 * beta, inv = 1.0 / (sqrt(2.0) * beta);
+    double w = PLM_TWO_PI / bins, cut = 6.0 * beta, inv = 1.0 / (sqrt(2.0) * beta);
     int wraps = 1 + (int)(cut / PLM_TWO_PI);
     for (int m = -wraps; m <= wraps; ++m) {
         double s = delta + PLM_TWO_PI * m, lo = fmax(s - cut, -PLM_PI), hi = fmin(s + cut, PLM_PI);
@@ -153,17 +175,17 @@ static void deposit(double *cell, int bins, double w, double beta, rgb A, double
 typedef struct build_job {
     plm_fiber_table *table;
     int sub_samples; /* h samples per cell (midpoint rule in asin(h)) */
-    atomic_int next, done, failed;
 } build_job;
 
 /* One node: for each h cell, the bin masses of its lobes by the midpoint rule
  * in gamma = asin(h) (dh = cos(gamma) dgamma), then the summed rows. */
-static void build_node(build_job *job, int node, double *scratch, plm_fiber_lobe *lobes)
+static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lobes)
 {
+    const build_job *job = ctx;
     const plm_fiber_table *t = job->table;
     const plm_fiber_params *p = &t->params;
     int bins = t->phi_bins, it = node / t->phi_nodes, ip = node % t->phi_nodes;
-    double theta_o = node_theta(t, it), phi_o = t->phi_lo + ip * t->phi_step, w = bin_width(t);
+    double theta_o = node_theta(t, it), phi_o = t->phi_lo + ip * t->phi_step;
     vec3 wo = plm_fiber_direction(theta_o, phi_o);
     plm_rng rng; /* drives only medulla bounces, whose lobes are left out */
     plm_rng_seed(&rng, 0x7ab1e, (uint64_t)node);
@@ -180,7 +202,7 @@ static void build_node(build_job *job, int node, double *scratch, plm_fiber_lobe
             int n = plm_fiber_trace(p, wo, h, &rng, lobes);
             for (int k = 0; k < n && !lobes[k].medulla; ++k) {
                 double delta = remainder(atan2(lobes[k].dir.y, lobes[k].dir.x) - phi_o, PLM_TWO_PI);
-                deposit(cell, bins, w, p->beta_n, rgb_scale(lobes[k].throughput, dh), delta);
+                plm_fiber_gn_deposit(cell, bins, p->beta_n, rgb_scale(lobes[k].throughput, dh), delta);
             }
         }
         /* S(j + 1, c) = S(j, c) + the cell's mass below column c, summed in double. */
@@ -202,80 +224,95 @@ static void build_node(build_job *job, int node, double *scratch, plm_fiber_lobe
     }
 }
 
-static void *build_worker(void *arg)
+typedef struct parallel_run {
+    plm_fiber_work work;
+    void *ctx;
+    int items, lobes;
+    size_t scratch_bytes;
+    atomic_int next, done, failed;
+} parallel_run;
+
+static void *parallel_worker(void *arg)
 {
-    build_job *job = arg;
-    const plm_fiber_table *t = job->table;
-    double *scratch = malloc(sizeof(double) * 3 * (size_t)(2 * t->phi_bins + 1));
-    plm_fiber_lobe *lobes = malloc(sizeof(plm_fiber_lobe) * (size_t)t->params.lobes);
-    int nodes = t->theta_nodes * t->phi_nodes;
+    parallel_run *r = arg;
+    double *scratch = malloc(r->scratch_bytes);
+    plm_fiber_lobe *lobes = malloc(sizeof(plm_fiber_lobe) * (size_t)r->lobes);
     if (!scratch || !lobes)
-        atomic_store(&job->failed, 1);
-    for (int n; !atomic_load(&job->failed) && (n = atomic_fetch_add(&job->next, 1)) < nodes;) {
-        build_node(job, n, scratch, lobes);
-        atomic_fetch_add(&job->done, 1);
+        atomic_store(&r->failed, 1);
+    for (int n; !atomic_load(&r->failed) && (n = atomic_fetch_add(&r->next, 1)) < r->items;) {
+        r->work(r->ctx, n, scratch, lobes);
+        atomic_fetch_add(&r->done, 1);
     }
     free(scratch);
     free(lobes);
     return NULL;
 }
 
-static double now_seconds(void)
+double plm_fiber_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes,
+                       const plm_fiber_table_options *o, const char *what, double started)
+{
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int threads = o && o->threads > 0 ? o->threads : cores > 0 ? (int)cores : 1;
+    parallel_run r = {work, ctx, items, lobes, scratch_bytes, 0, 0, 0};
+    pthread_t *tid = calloc((size_t)threads, sizeof *tid);
+    if (!tid)
+        return 0;
+    int launched = 0;
+    for (int i = 0; i < threads; ++i)
+        if (pthread_create(&tid[launched], NULL, parallel_worker, &r) == 0)
+            ++launched;
+    if (launched == 0)
+        parallel_worker(&r);
+    while (launched > 0 && atomic_load(&r.done) < items && !atomic_load(&r.failed)) {
+        struct timespec nap = {0, 100000000};
+        nanosleep(&nap, NULL);
+        if (plm_fiber_seconds() - started > 1.0 && !(o && o->quiet))
+            fprintf(stderr, "\rbuilding fiber table, %s: %3d%% (%d threads)", what,
+                    100 * atomic_load(&r.done) / items, launched);
+    }
+    for (int i = 0; i < launched; ++i)
+        pthread_join(tid[i], NULL);
+    free(tid);
+    return !atomic_load(&r.failed);
+}
+
 /* Fills t->data (allocated by the caller) on all cores, showing progress on
  * stderr once the build has taken a second. */
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err)
 {
-    double t0 = now_seconds();
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    int threads = o && o->threads > 0 ? o->threads : cores > 0 ? (int)cores : 1;
-    /* Lobes move about 4 radians per radian of asin(h) at most: sub-samples
-     * half a beta_n apart keep the midpoint rule's error far below 1e-4. */
-    double dgamma = PLM_PI / t->h_cells;
-    build_job job = {t, (int)ceil(8.0 * dgamma / t->params.beta_n), 0, 0, 0};
-    job.sub_samples = job.sub_samples < 4 ? 4 : job.sub_samples;
-    pthread_t *tid = calloc((size_t)threads, sizeof *tid);
-    if (!tid)
+    double t0 = plm_fiber_seconds();
+    build_job job = {t, plm_fiber_h_sub_samples(t->params.beta_n, t->h_cells)};
+    if (!plm_fiber_parallel(build_node, &job, t->theta_nodes * t->phi_nodes,
+                            sizeof(double) * 3 * (size_t)(2 * t->phi_bins + 1), t->params.lobes, o, "azimuths", t0))
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
-    int started = 0;
-    for (int i = 0; i < threads; ++i)
-        if (pthread_create(&tid[started], NULL, build_worker, &job) == 0)
-            ++started;
-    if (started == 0)
-        build_worker(&job);
-    int nodes = t->theta_nodes * t->phi_nodes, shown = 0;
-    while (started > 0 && atomic_load(&job.done) < nodes && !atomic_load(&job.failed)) {
-        struct timespec nap = {0, 100000000};
-        nanosleep(&nap, NULL);
-        double elapsed = now_seconds() - t0;
-        if (elapsed > 1.0 && !(o && o->quiet)) {
-            fprintf(stderr, "\rbuilding fiber table: %3d%% (%d threads)",
-                    100 * atomic_load(&job.done) / nodes, started);
-            shown = 1;
-        }
-    }
-    for (int i = 0; i < started; ++i)
-        pthread_join(tid[i], NULL);
-    free(tid);
-    if (shown)
-        fprintf(stderr, "\rbuilding fiber table: done in %.1f s           \n", now_seconds() - t0);
-    if (atomic_load(&job.failed))
-        return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
-    t->build_seconds = now_seconds() - t0;
+    plm_result rc = plm_fiber_medulla_build(&t->params, &t->medulla, o, t0, err);
+    if (rc != PLM_OK)
+        return rc;
+    t->build_seconds = plm_fiber_seconds() - t0;
+    if (t->build_seconds > 1.0 && !(o && o->quiet)) /* after the progress shown */
+        fprintf(stderr, "\rbuilding fiber table: done in %.1f s                           \n", t->build_seconds);
     return PLM_OK;
 }
 
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
 {
     t->data = malloc(sizeof(float) * t->floats);
-    if (!t->data || !make_h_nodes(t)) {
+    t->h_node = plm_fiber_h_nodes(t->h_cells);
+    if (t->data)
+        t->medulla.data = t->data + (t->floats - t->medulla.floats);
+    if (!t->data || !t->h_node || plm_fiber_medulla_alloc(&t->medulla, err) != PLM_OK) {
         free(t->data);
+        free(t->h_node);
+        plm_fiber_medulla_release(&t->medulla);
         t->data = NULL;
+        t->h_node = NULL;
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory (%zu MB)",
                         sizeof(float) * t->floats >> 20);
     }
@@ -288,12 +325,14 @@ void plm_fiber_table_free(plm_fiber_table *t)
         return;
     free(t->data);
     free(t->h_node);
+    plm_fiber_medulla_release(&t->medulla);
     free(t);
 }
 
 size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 {
-    return sizeof *t + sizeof(float) * t->floats + sizeof(double) * (size_t)(t->h_cells + 1);
+    return sizeof *t + sizeof(float) * t->floats + sizeof(double) * (size_t)(t->h_cells + 1) +
+           sizeof(double) * (size_t)(t->medulla.res.h_cells + 1);
 }
 
 /* ---- queries ------------------------------------------------------------- */
@@ -301,23 +340,16 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
 /* The cell of h and h's fraction across it. */
-static int h_cell(const plm_fiber_table *t, double h, double *frac)
+static int h_cell(const double *h_node, int cells, double h, double *frac)
 {
-    int j = (int)floor((plm_safe_asin(h) + HALF_PI) / PLM_PI * t->h_cells);
-    j = j < 0 ? 0 : j >= t->h_cells ? t->h_cells - 1 : j;
-    double lo = t->h_node[j], hi = t->h_node[j + 1];
+    int j = (int)floor((plm_safe_asin(h) + HALF_PI) / PLM_PI * cells);
+    j = j < 0 ? 0 : j >= cells ? cells - 1 : j;
+    double lo = h_node[j], hi = h_node[j + 1];
     *frac = plm_clamp((h - lo) / (hi - lo), 0.0, 1.0);
     return j;
 }
 
-/* A row of the interval's mean with its h weight, in a list of at most four. */
-typedef struct row_list {
-    int row[4];
-    double coef[4];
-    int n;
-} row_list;
-
-static void add_row(row_list *l, int j, double coef)
+static void add_row(plm_fiber_h_rows *l, int j, double coef)
 {
     for (int r = 0; r < l->n; ++r)
         if (l->row[r] == j) {
@@ -328,15 +360,14 @@ static void add_row(row_list *l, int j, double coef)
     l->coef[l->n++] = coef;
 }
 
-/* The rows whose combination is the mean over [hmin, hmax] (within [-1, 1]). */
-static void interval_rows(const plm_fiber_table *t, double hmin, double hmax, row_list *l)
+void plm_fiber_interval_rows(const double *h_node, int cells, double hmin, double hmax, plm_fiber_h_rows *l)
 {
     double f0, f1;
-    int j0 = h_cell(t, hmin, &f0), j1 = h_cell(t, hmax, &f1);
+    int j0 = h_cell(h_node, cells, hmin, &f0), j1 = h_cell(h_node, cells, hmax, &f1);
     l->n = 0;
     double width = hmax - hmin;
     if (width < 1e-9) { /* the density at a point: its cell's */
-        double inv = 1.0 / (t->h_node[j0 + 1] - t->h_node[j0]);
+        double inv = 1.0 / (h_node[j0 + 1] - h_node[j0]);
         add_row(l, j0 + 1, inv);
         add_row(l, j0, -inv);
         return;
@@ -346,6 +377,45 @@ static void interval_rows(const plm_fiber_table *t, double hmin, double hmax, ro
     add_row(l, j1 + 1, f1 * inv);
     add_row(l, j0, -(1.0 - f0) * inv);
     add_row(l, j0 + 1, -f0 * inv);
+}
+
+double plm_fiber_fold_phi(int symmetry, double phi, int *flip)
+{
+    /* x -> -x takes phi to pi - phi, y -> -y takes phi to -phi; either turns
+     * relative azimuths and h around (docs/fiber.md). */
+    int mirror_x = 0, mirror_y = 0;
+    if ((symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_X) && cos(phi) < 0.0)
+        mirror_x = 1;
+    if ((symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_Y) && sin(phi) < 0.0)
+        mirror_y = 1;
+    if (mirror_x)
+        phi = PLM_PI - phi;
+    if (mirror_y)
+        phi = -phi;
+    *flip = mirror_x ^ mirror_y;
+    return wrap_pi(phi);
+}
+
+void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
+                           double *frac)
+{
+    ip[0] = ip[1] = 0;
+    *frac = 0.0;
+    if (phi_nodes < 2)
+        return;
+    double x = (phi - phi_lo) / phi_step;
+    if (symmetry == PLM_FIBER_TABLE_NONE) { /* periodic */
+        x = x - phi_nodes * floor(x / phi_nodes);
+        ip[0] = (int)x % phi_nodes;
+        ip[1] = (ip[0] + 1) % phi_nodes;
+        *frac = x - floor(x);
+    } else {
+        x = plm_clamp(x, 0.0, phi_nodes - 1.0);
+        ip[0] = (int)x;
+        ip[0] = ip[0] >= phi_nodes - 1 ? phi_nodes - 2 : ip[0];
+        ip[1] = ip[0] + 1;
+        *frac = x - ip[0];
+    }
 }
 
 /* The interval's mean at column col: channel 0 (mean of RGB) ... */
@@ -381,21 +451,7 @@ static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double
     q->theta_o = atan2(wo.z, ct);
     q->phi_o = atan2(wo.y, wo.x);
     q->gm_scale = plm_fiber_gm_scale(t->params.beta_m, -q->theta_o);
-    /* Into the tabulated range of phi_o by the mirrors (docs/fiber.md):
-     * x -> -x takes phi to pi - phi, y -> -y takes phi to -phi; either turns
-     * relative azimuths and h around. */
-    double phi = q->phi_o;
-    int mirror_x = 0, mirror_y = 0;
-    if ((t->symmetry == PLM_FIBER_TABLE_MIRROR_XY || t->symmetry == PLM_FIBER_TABLE_MIRROR_X) && cos(phi) < 0.0)
-        mirror_x = 1;
-    if ((t->symmetry == PLM_FIBER_TABLE_MIRROR_XY || t->symmetry == PLM_FIBER_TABLE_MIRROR_Y) && sin(phi) < 0.0)
-        mirror_y = 1;
-    if (mirror_x)
-        phi = PLM_PI - phi;
-    if (mirror_y)
-        phi = -phi;
-    phi = wrap_pi(phi);
-    q->flip = mirror_x ^ mirror_y;
+    double phi = plm_fiber_fold_phi(t->symmetry, q->phi_o, &q->flip);
     if (q->flip) {
         double lo = -hmax;
         hmax = -hmin;
@@ -410,28 +466,15 @@ static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double
     int it = (int)ft;
     it = it >= t->theta_nodes - 1 ? t->theta_nodes - 2 : it;
     ft -= it;
-    int ip0 = 0, ip1 = 0;
-    double fp = 0.0;
-    if (t->phi_nodes > 1) {
-        double x = (phi - t->phi_lo) / t->phi_step;
-        if (periodic(t)) {
-            x = x - t->phi_nodes * floor(x / t->phi_nodes);
-            ip0 = (int)x % t->phi_nodes;
-            ip1 = (ip0 + 1) % t->phi_nodes;
-            fp = x - floor(x);
-        } else {
-            x = plm_clamp(x, 0.0, t->phi_nodes - 1.0);
-            ip0 = (int)x;
-            ip0 = ip0 >= t->phi_nodes - 1 ? t->phi_nodes - 2 : ip0;
-            ip1 = ip0 + 1;
-            fp = x - ip0;
-        }
-    }
+    int ip[2];
+    double fp;
+    plm_fiber_phi_weights(t->symmetry, t->phi_nodes, t->phi_lo, t->phi_step, phi, ip, &fp);
+    int ip0 = ip[0], ip1 = ip[1];
     int nodes[4] = {it * t->phi_nodes + ip0, it * t->phi_nodes + ip1, (it + 1) * t->phi_nodes + ip0,
                     (it + 1) * t->phi_nodes + ip1};
     double w[4] = {(1 - ft) * (1 - fp), (1 - ft) * fp, ft * (1 - fp), ft * fp};
-    row_list rows;
-    interval_rows(t, hmin, hmax, &rows);
+    plm_fiber_h_rows rows;
+    plm_fiber_interval_rows(t->h_node, t->h_cells, hmin, hmax, &rows);
     /* Row 0 is all zeros, and so is what a zero weight multiplies: neither makes a term. */
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < rows.n; ++r)
@@ -532,6 +575,8 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
     out->params = p;
     out->tab.table = NULL;
     out->tab.total = 0.0;
+    out->med.table = NULL;
+    out->med.total = 0.0;
     if (!table) {
         plm_fiber_prepare(p, wo, hmin, hmax, rng, &out->set);
         out->pick_table = 0.0;
@@ -539,11 +584,10 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
         return;
     }
     table_prepare(table, wo, hmin, hmax, &out->tab);
+    plm_fiber_medulla_prepare(&table->medulla, wo, hmin, hmax, &out->med);
     out->set.count = 0;
     out->set.total = 0.0;
-    if (plm_fiber_has_medulla(p))
-        plm_fiber_prepare_medulla(p, wo, hmin, hmax, rng, &out->set);
-    out->total = out->tab.total + out->set.total;
+    out->total = out->tab.total + out->med.total;
     out->pick_table = out->total > 0.0 ? out->tab.total / out->total : 0.0;
 }
 
@@ -552,19 +596,26 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
  * when the table part sampled wi. */
 static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles, rgb *f, double *pdf)
 {
-    double tab_pdf = 0.0;
+    if (!b->tab.table) {
+        if (f)
+            *f = plm_fiber_eval(b->params, &b->set, wi);
+        *pdf = plm_fiber_pdf(b->params, &b->set, wi);
+        return;
+    }
+    double tab_pdf = 0.0, med_pdf;
     if (f)
         *f = rgb_gray(0.0);
     if (angles)
         table_lookup_angles(&b->tab, angles[0], angles[1], angles[2], f, &tab_pdf);
-    else if (b->tab.table)
+    else
         table_lookup(&b->tab, wi, f, &tab_pdf);
     *pdf = b->pick_table * tab_pdf;
-    if (b->set.count > 0) {
+    if (b->med.total > 0.0) {
+        rgb med;
+        plm_fiber_medulla_lookup(&b->med, wi, f ? &med : NULL, &med_pdf);
         if (f)
-            *f = rgb_add(*f, plm_fiber_eval(b->params, &b->set, wi));
-        if (b->pick_table < 1.0)
-            *pdf += (1.0 - b->pick_table) * plm_fiber_pdf(b->params, &b->set, wi);
+            *f = rgb_add(*f, med);
+        *pdf += (1.0 - b->pick_table) * med_pdf;
     }
 }
 
@@ -603,15 +654,12 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
             return 0;
         angles[2] = sqrt(wi.x * wi.x + wi.y * wi.y);
         known = angles;
-        rec->lobe = -1;
     } else {
-        plm_fiber_sample_rec part;
         double remapped = plm_clamp((u0 - b->pick_table) / (1.0 - b->pick_table), 0.0, 0x1.fffffffffffffp-1);
-        if (!plm_fiber_sample(b->params, &b->set, remapped, u1, u2, &part))
+        if (!plm_fiber_medulla_sample(&b->med, remapped, u1, u2, &wi))
             return 0;
-        wi = part.wi;
-        rec->lobe = part.lobe;
     }
+    rec->lobe = -1;
     rgb f;
     double pdf, ct = sqrt(wi.x * wi.x + wi.y * wi.y);
     bcsdf_lookup(b, wi, known, &f, &pdf);

@@ -7,8 +7,8 @@
  * times an azimuthal function N(phi_i - phi_o) of (theta_o, phi_o, h). The
  * table holds, per (|theta_o|, phi_o) node, the cumulative integral of N over
  * h cells and azimuth bins; an h-interval's mean is then a difference of
- * interpolated rows. The lobes that bounced off the medulla are left to one
- * traced sample (plm_fiber_prepare_medulla), as in the stochastic estimator.
+ * interpolated rows. The lobes that bounced off the medulla have a table of
+ * their own (render/fiber_medulla_table.h), so a query is deterministic.
  *
  * Tables are built on all cores on first use and cached on disk, keyed by a
  * hash of the parameters, the resolution and the format version. */
@@ -18,8 +18,9 @@
 #include <stddef.h>
 
 #include "render/fiber.h"
+#include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 4
+#define PLM_FIBER_TABLE_VERSION 5
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
@@ -30,6 +31,7 @@ typedef struct plm_fiber_table_options {
     int quiet;             /* 1: no progress on stderr */
     /* Resolution, 0 = the defaults of docs/fiber.md (azimuth bins from beta_n). */
     int theta_nodes, phi_nodes, h_cells, phi_bins;
+    plm_fiber_medulla_resolution medulla; /* the medulla part's resolution, 0 = defaults */
 } plm_fiber_table_options;
 
 /* Which mirror symmetries of the cross-section the table exploits. */
@@ -48,8 +50,10 @@ typedef struct plm_fiber_table {
     double u_first, u_last; /* nodes are uniform in u(|theta_o|) from u_first to u_last (docs/fiber.md) */
     double phi_lo, phi_step; /* phi_o of node k is phi_lo + k phi_step */
     double *h_node;    /* h_cells + 1 cell bounds, uniform in asin(h) */
-    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, (mean of RGB, R, G) (docs/fiber.md) */
-    size_t floats;
+    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, (mean of RGB, R, G) (docs/fiber.md);
+                        * then the medulla part's */
+    size_t floats;     /* both parts */
+    plm_fiber_medulla_table medulla; /* theta_nodes 0 without a medulla */
     int from_cache;    /* 1 if read from the disk cache */
     double build_seconds;
 } plm_fiber_table;
@@ -65,6 +69,46 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t);
 void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table *t);
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err);
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err);
+
+/* Shared by both parts' tables (fiber_medulla_table.c): h cell bounds
+ * uniform in asin(h) (malloc'ed, NULL when out of memory) and the number of
+ * h samples per cell the builds take (the same h in both parts, so their
+ * energies add up); the rows and coefficients (at most 4) whose combination
+ * of cumulative rows is the mean over [hmin, hmax]; phi_o of the first node
+ * and the step between nodes for a symmetry; phi_o folded into the
+ * symmetry's range (*flip: the mirrored view, whose relative azimuths and h
+ * change sign); the two phi_o nodes around a folded phi_o and the fraction
+ * between them; and the wrapped Gaussian G_N's mass in each of `bins` bins
+ * over [-pi, pi) times A, added to cell (RGB per bin). */
+double *plm_fiber_h_nodes(int cells);
+/* The |theta_o| nodes of docs/fiber.md (denser toward grazing): u(theta), the
+ * inverse Bravais index; the node coordinate (0 .. nodes - 1) of theta given
+ * with its sine and cosine, u_last = u(theta_max); node k's theta. */
+double plm_fiber_theta_u(double eta, double theta);
+double plm_fiber_theta_coordinate(double eta, double u_last, double theta_max, int nodes, double theta,
+                                  double sin_theta, double cos_theta);
+double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nodes, int k);
+int plm_fiber_h_sub_samples(double beta_n, int cells); /* per cell, midpoint rule in asin(h) */
+typedef struct plm_fiber_h_rows {
+    int row[4];
+    double coef[4];
+    int n;
+} plm_fiber_h_rows;
+void plm_fiber_interval_rows(const double *h_node, int cells, double hmin, double hmax, plm_fiber_h_rows *rows);
+void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step);
+double plm_fiber_fold_phi(int symmetry, double phi, int *flip);
+void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
+                           double *frac);
+void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double delta);
+/* Runs work(ctx, item, scratch, lobes) for items 0..items-1 on o's threads
+ * (0: all cores), each thread with scratch_bytes of scratch and room for
+ * `lobes` lobes, showing "what" and the progress on stderr (unless o->quiet)
+ * once `started` (plm_fiber_seconds) is a second ago; returns 0 when out of
+ * memory. */
+typedef void (*plm_fiber_work)(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes);
+int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes,
+                       const plm_fiber_table_options *o, const char *what, double started);
+double plm_fiber_seconds(void); /* monotonic */
 
 /* The cache file the table for (p, o) lives in; returns 0 if there is no cache directory. */
 int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_options *o, char *path,
@@ -86,14 +130,15 @@ typedef struct plm_fiber_table_query {
 } plm_fiber_table_query;
 
 /* The fiber BCSDF prepared for one view direction wo and h-interval, by
- * either estimator: with a table, its part plus a traced sample of the
- * medulla's lobes; without (NULL), the stochastic lobe set of fiber.h.
- * Sampling mixes the two parts by energy; pdf is the mixture's density. */
+ * either estimator: with a table, its two parts (deterministic: rng is not
+ * used); without (NULL), the stochastic lobe set of fiber.h. Sampling mixes
+ * the two parts by energy; pdf is the mixture's density. */
 typedef struct plm_fiber_bcsdf {
     const plm_fiber_params *params;
-    plm_fiber_table_query tab; /* tab.table NULL: stochastic */
-    plm_fiber_lobe_set set;    /* stochastic: every lobe; tabulated: the medulla's lobes */
-    double pick_table;         /* probability that sampling uses the table part */
+    plm_fiber_table_query tab;   /* tab.table NULL: stochastic */
+    plm_fiber_medulla_query med; /* tabulated: the medulla's part */
+    plm_fiber_lobe_set set;      /* stochastic: every lobe */
+    double pick_table;           /* probability that sampling uses the part without the medulla */
     double total;              /* > 0 iff something can be sampled */
 } plm_fiber_bcsdf;
 

@@ -21,6 +21,7 @@ typedef struct cache_header {
     uint32_t version, header_bytes;
     uint64_t key;
     int32_t theta_nodes, phi_nodes, h_cells, phi_bins, symmetry, reserved;
+    int32_t medulla[6]; /* the medulla part's resolution */
     double params[PARAM_WORDS];
     uint64_t floats, checksum;
 } cache_header;
@@ -75,6 +76,9 @@ static void expected_header(const plm_fiber_table *t, cache_header *h)
     h->h_cells = t->h_cells;
     h->phi_bins = t->phi_bins;
     h->symmetry = t->symmetry;
+    const plm_fiber_medulla_resolution *r = &t->medulla.res;
+    const int32_t medulla[6] = {r->theta_nodes, r->phi_nodes, r->h_cells, r->theta_bins, r->phi_bins, r->directions};
+    memcpy(h->medulla, medulla, sizeof medulla);
     param_words(&t->params, h->params);
     h->floats = t->floats;
     h->key = fnv1a(fnv_basis, h, offsetof(cache_header, key));

@@ -268,23 +268,109 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
     path->length = 0.0;
 }
 
-/* Lambertian bounce off the medulla at path->pos: a cosine-distributed 3D
- * direction about its normal n, which lies in the cross-section, so
- * (n x z, z, n) is an orthonormal frame with no normalisation to do. The disk
- * point comes by rejection (Malley's method without trigonometry). */
-static void medulla_bounce(const plm_fiber_params *p, const ellipse *medulla, plm_rng *rng, fiber_path *path)
+/* Lambertian bounce off the medulla at path->pos: the 3D direction whose
+ * components along (n x z, z) are the unit-disk point (dx, dy) and along the
+ * normal n (in the cross-section) is sqrt(1 - dx^2 - dy^2). A uniform disk
+ * point makes it cosine-distributed about n; (n x z, z, n) is an
+ * orthonormal frame with no normalisation to do. */
+static void medulla_bounce_to(const plm_fiber_params *p, const ellipse *medulla, double dx, double dy,
+                              fiber_path *path)
 {
-    double X, Y, dx, dy, r2;
+    double X, Y;
     path->pos = ellipse_snap(medulla, path->pos, &X, &Y);
     vec3 n = ellipse_normal(medulla, X, Y);
+    double dz = sqrt(fmax(0.0, 1.0 - dx * dx - dy * dy));
+    path->dir = v3(dx * n.y + dz * n.x, -dx * n.x + dz * n.y, dy);
+    path->tint = rgb_mul(path->tint, p->medulla_reflectance);
+}
+
+/* The random bounce: the disk point by rejection (Malley's method without
+ * trigonometry). */
+static void medulla_bounce(const plm_fiber_params *p, const ellipse *medulla, plm_rng *rng, fiber_path *path)
+{
+    double dx, dy;
     do {
         dx = 2.0 * plm_rng_uniform(rng) - 1.0;
         dy = 2.0 * plm_rng_uniform(rng) - 1.0;
-        r2 = dx * dx + dy * dy;
-    } while (r2 >= 1.0);
-    double dz = sqrt(1.0 - r2);
-    path->dir = v3(dx * n.y + dz * n.x, -dx * n.x + dz * n.y, dy);
-    path->tint = rgb_mul(path->tint, p->medulla_reflectance);
+    } while (dx * dx + dy * dy >= 1.0);
+    medulla_bounce_to(p, medulla, dx, dy, path);
+}
+
+/* The fiber's two ellipses. */
+typedef struct fiber_shape {
+    ellipse cortex, medulla;
+    int has_medulla;
+} fiber_shape;
+
+static fiber_shape shape_of(const plm_fiber_params *p)
+{
+    fiber_shape s = {ellipse_make(0.0, 0.0, 1.0, p->eccentricity),
+                     ellipse_make(p->medulla_ca, p->medulla_cb, p->medulla_a, p->medulla_b),
+                     plm_fiber_has_medulla(p)};
+    return s;
+}
+
+/* Follows path (inside the cortex; on_cortex says whether it starts on the
+ * cortex wall, bounced whether it has met the medulla) until lobes[0..count)
+ * holds max_lobes lobes, the light is gone or the interaction bound is hit;
+ * returns count. With stop_at_medulla it returns instead when the path first
+ * reaches the medulla, leaving path there (*stopped = 1). */
+static int propagate(const plm_fiber_params *p, const fiber_shape *s, fiber_path *path, int on_cortex, int bounced,
+                     plm_rng *rng, plm_fiber_lobe *lobes, int count, int max_lobes, int *stopped)
+{
+    const ellipse *cortex = &s->cortex;
+    const double inv_eta = 1.0 / p->eta, eta2 = p->eta * p->eta; /* leaving: n_t / n_i = 1 / eta */
+    const int max_interactions = 16 * max_lobes + 64;
+    for (int interaction = 0; count < max_lobes && path->weight > 0.0 && interaction < max_interactions;
+         ++interaction) {
+        double t = ellipse_exit(cortex, path->pos, path->dir, on_cortex);
+        if (!(t > 0.0))
+            break; /* tangent or axial: the path gets nowhere (probability zero) */
+        if (s->has_medulla && on_cortex) {
+            double tm = ellipse_enter(&s->medulla, path->pos, path->dir);
+            if (tm < t) {
+                path->length += tm;
+                path->pos = v2(path->pos.x + tm * path->dir.x, path->pos.y + tm * path->dir.y);
+                if (stopped) {
+                    *stopped = 1;
+                    return count;
+                }
+                medulla_bounce(p, &s->medulla, rng, path);
+                on_cortex = 0;
+                bounced = 1;
+                if (rgb_is_black(path->tint))
+                    break;
+                continue;
+            }
+        }
+        path->length += t;
+        double X, Y;
+        /* Not snapped back onto the cortex: the exit root from the boundary
+         * is exact to rounding, so the drift over even 16 000 interactions
+         * stays near 1e-12, and the snap would lengthen the serial chain. */
+        path->pos = v2(path->pos.x + t * path->dir.x, path->pos.y + t * path->dir.y);
+        X = (path->pos.x - cortex->cx) * cortex->inv_a;
+        Y = (path->pos.y - cortex->cy) * cortex->inv_b;
+        on_cortex = 1;
+        /* The reflected direction, which the next segment waits for, is taken
+         * with the unnormalised normal g (one division); the unit normal the
+         * Fresnel term and the lobe need is computed beside it. */
+        double gx = X * cortex->inv_a, gy = Y * cortex->inv_b, gg = gx * gx + gy * gy;
+        double dg = path->dir.x * gx + path->dir.y * gy, k = 2.0 * dg / gg;
+        vec3 reflected = v3(path->dir.x - k * gx, path->dir.y - k * gy, path->dir.z);
+        double inv_len = 1.0 / sqrt(gg), cos_t;
+        double cos_i = plm_clamp(dg * inv_len, 0.0, 1.0), f = fresnel(cos_i, inv_eta, eta2, &cos_t);
+        if (f < 1.0) { /* part leaves the cortex: a lobe */
+            vec3 n = v3(gx * inv_len, gy * inv_len, 0.0);
+            lobes[count].dir = refract(path->dir, v3_neg(n), cos_i, cos_t, p->eta);
+            lobes[count].throughput = path_throughput(p, path, 1.0 - f);
+            lobes[count].medulla = bounced;
+            ++count;
+        }
+        path->weight *= f;
+        path->dir = reflected;
+    }
+    return count;
 }
 
 int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes,
@@ -296,62 +382,47 @@ int plm_fiber_trace_n(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng
      * entry's quadratic would underflow; that cone has no measure anyway). */
     if (max_lobes < 1 || !(wo.x * wo.x + wo.y * wo.y > 1e-200) || !(h >= -1.0 && h <= 1.0))
         return 0;
-    ellipse cortex = ellipse_make(0.0, 0.0, 1.0, p->eccentricity);
-    ellipse medulla = ellipse_make(p->medulla_ca, p->medulla_cb, p->medulla_a, p->medulla_b);
-    const double inv_eta = 1.0 / p->eta, eta2 = p->eta * p->eta; /* leaving: n_t / n_i = 1 / eta */
-    int has_medulla = plm_fiber_has_medulla(p);
+    fiber_shape s = shape_of(p);
     fiber_path path;
-    enter(p, &cortex, wo, h, &lobes[0], &path);
-    int count = 1, on_cortex = 1, bounced = 0;
-    const int max_interactions = 16 * max_lobes + 64;
-    for (int interaction = 0; count < max_lobes && path.weight > 0.0 && interaction < max_interactions;
-         ++interaction) {
-        double t = ellipse_exit(&cortex, path.pos, path.dir, on_cortex);
-        if (!(t > 0.0))
-            break; /* tangent or axial: the path gets nowhere (probability zero) */
-        if (has_medulla && on_cortex) {
-            double tm = ellipse_enter(&medulla, path.pos, path.dir);
-            if (tm < t) {
-                path.length += tm;
-                path.pos = v2(path.pos.x + tm * path.dir.x, path.pos.y + tm * path.dir.y);
-                medulla_bounce(p, &medulla, rng, &path);
-                on_cortex = 0;
-                bounced = 1;
-                if (rgb_is_black(path.tint))
-                    break;
-                continue;
-            }
-        }
-        path.length += t;
-        double X, Y;
-        /* Not snapped back onto the cortex: the exit root from the boundary
-         * is exact to rounding, so the drift over even 16 000 interactions
-         * stays near 1e-12, and the snap would lengthen the serial chain. */
-        path.pos = v2(path.pos.x + t * path.dir.x, path.pos.y + t * path.dir.y);
-        X = (path.pos.x - cortex.cx) * cortex.inv_a;
-        Y = (path.pos.y - cortex.cy) * cortex.inv_b;
-        on_cortex = 1;
-        /* The reflected direction, which the next segment waits for, is taken
-         * with the unnormalised normal g (one division); the unit normal the
-         * Fresnel term and the lobe need is computed beside it. */
-        double gx = X * cortex.inv_a, gy = Y * cortex.inv_b, gg = gx * gx + gy * gy;
-        double dg = path.dir.x * gx + path.dir.y * gy, k = 2.0 * dg / gg;
-        vec3 reflected = v3(path.dir.x - k * gx, path.dir.y - k * gy, path.dir.z);
-        double inv_len = 1.0 / sqrt(gg), cos_t;
-        double cos_i = plm_clamp(dg * inv_len, 0.0, 1.0), f = fresnel(cos_i, inv_eta, eta2, &cos_t);
-        if (f < 1.0) { /* part leaves the cortex: a lobe */
-            vec3 n = v3(gx * inv_len, gy * inv_len, 0.0);
-            lobes[count].dir = refract(path.dir, v3_neg(n), cos_i, cos_t, p->eta);
-            lobes[count].throughput = path_throughput(p, &path, 1.0 - f);
-            lobes[count].medulla = bounced;
-            ++count;
-        }
-        path.weight *= f;
-        path.dir = reflected;
-    }
+    enter(p, &s.cortex, wo, h, &lobes[0], &path);
+    int count = propagate(p, &s, &path, 1, 0, rng, lobes, 1, max_lobes, NULL);
     if (inside)
         *inside = path_throughput(p, &path, 1.0);
     return count;
+}
+
+int plm_fiber_trace_to_medulla(const plm_fiber_params *p, vec3 wo, double h, plm_fiber_lobe *lobes,
+                               plm_fiber_medulla_hit *hit)
+{
+    if (!plm_fiber_has_medulla(p) || !(wo.x * wo.x + wo.y * wo.y > 1e-200) || !(h >= -1.0 && h <= 1.0))
+        return 0;
+    fiber_shape s = shape_of(p);
+    fiber_path path;
+    enter(p, &s.cortex, wo, h, &lobes[0], &path);
+    int stopped = 0;
+    hit->lobes = propagate(p, &s, &path, 1, 0, NULL, lobes, 1, p->lobes, &stopped);
+    if (!stopped)
+        return 0;
+    double X, Y;
+    ellipse_snap(&s.medulla, path.pos, &X, &Y);
+    hit->t = atan2(Y, X);
+    hit->throughput = path_throughput(p, &path, 1.0);
+    return 1;
+}
+
+int plm_fiber_trace_from_medulla(const plm_fiber_params *p, double t, double u1, double u2, plm_rng *rng,
+                                 plm_fiber_lobe *lobes, int max_lobes)
+{
+    if (!plm_fiber_has_medulla(p) || max_lobes < 1)
+        return 0;
+    fiber_shape s = shape_of(p);
+    fiber_path path = {v2(s.medulla.cx + s.medulla.a * cos(t), s.medulla.cy + s.medulla.b * sin(t)),
+                       v3(0.0, 0.0, 0.0), 1.0, rgb_gray(1.0), 0.0};
+    double r = sqrt(u1), a = PLM_TWO_PI * u2; /* uniform on the unit disk */
+    medulla_bounce_to(p, &s.medulla, r * cos(a), r * sin(a), &path);
+    if (rgb_is_black(path.tint))
+        return 0;
+    return propagate(p, &s, &path, 0, 1, rng, lobes, 0, max_lobes, NULL);
 }
 
 int plm_fiber_trace(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, plm_fiber_lobe *lobes)

@@ -50,20 +50,130 @@ static rgb reference_eval(const plm_fiber_params *p, vec3 wo, double hmin, doubl
     return rgb_scale(sum, 1.0 / (strata * ct * ct));
 }
 
-/* The table's part of eval alone: a prepared BCSDF without its medulla sample. */
+/* The table's part of eval without the medulla's. */
 static rgb table_part_eval(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, vec3 wi)
 {
     plm_fiber_bcsdf b;
-    plm_rng rng;
-    plm_rng_seed(&rng, 1, 1);
-    plm_fiber_bcsdf_prepare(&t->params, t, wo, hmin, hmax, &rng, &b);
-    b.set.count = 0;
+    plm_fiber_bcsdf_prepare(&t->params, t, wo, hmin, hmax, NULL, &b);
+    b.med.table = NULL;
+    b.med.total = 0.0;
     return plm_fiber_bcsdf_eval(&b, wi);
 }
 
 static vec3 random_sphere(plm_rng *rng)
 {
     return plm_fiber_direction(asin(2.0 * plm_rng_uniform(rng) - 1.0), PLM_TWO_PI * plm_rng_uniform(rng));
+}
+
+/* The converged stochastic mean of the medulla's part, written apart from
+ * the table: `sets` lobe sets traced at h uniform in [hmin, hmax] with random
+ * medulla bounces (the stochastic estimator), each set's lobes that met the
+ * medulla evaluated at every wi[i] with the detectors above (G_N's wraps
+ * beyond one turn dropped: below e^-100 for beta_n < 0.6 rad). mean[i] is
+ * the mean over the sets, var[i] the variance of that mean (unbiased, from
+ * the sets' spread). */
+static void reference_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, const vec3 *wi, int n,
+                              int sets, plm_rng *rng, rgb *mean, rgb *var)
+{
+    plm_fiber_lobe *lobes = malloc(sizeof *lobes * (size_t)p->lobes);
+    double *sum = calloc(6 * (size_t)n, sizeof(double)), *x = malloc(3 * sizeof(double) * (size_t)n);
+    for (int s = 0; s < sets; ++s) {
+        double h = hmin + (hmax - hmin) * plm_rng_uniform(rng);
+        int m = plm_fiber_trace(p, wo, h, rng, lobes);
+        for (int i = 0; i < 3 * n; ++i)
+            x[i] = 0.0;
+        for (int k = 0; k < m; ++k) {
+            if (!lobes[k].medulla)
+                continue;
+            double Theta = asin(lobes[k].dir.z), Phi = atan2(lobes[k].dir.y, lobes[k].dir.x);
+            for (int i = 0; i < n; ++i) {
+                double ct = sqrt(wi[i].x * wi[i].x + wi[i].y * wi[i].y), theta = atan2(wi[i].z, ct);
+                if (fabs(theta - Theta) > 12.0 * p->beta_m)
+                    continue; /* below e^-72 */
+                double dphi = remainder(atan2(wi[i].y, wi[i].x) - Phi, PLM_TWO_PI), gn = 0.0;
+                for (int w = -1; w <= 1; ++w)
+                    gn += exp(-0.5 * plm_sqr((dphi + PLM_TWO_PI * w) / p->beta_n));
+                double d = reference_gm(p->beta_m, Theta, theta) * gn / (sqrt(2.0 * PLM_PI) * p->beta_n * ct * ct);
+                x[3 * i] += lobes[k].throughput.r * d;
+                x[3 * i + 1] += lobes[k].throughput.g * d;
+                x[3 * i + 2] += lobes[k].throughput.b * d;
+            }
+        }
+        for (int i = 0; i < 3 * n; ++i) {
+            sum[2 * i] += x[i];
+            sum[2 * i + 1] += x[i] * x[i];
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        double m[3], v[3];
+        for (int c = 0; c < 3; ++c) {
+            m[c] = sum[2 * (3 * i + c)] / sets;
+            v[c] = fmax(0.0, sum[2 * (3 * i + c) + 1] / sets - m[c] * m[c]) / (sets - 1);
+        }
+        mean[i] = rgb_make(m[0], m[1], m[2]);
+        var[i] = rgb_make(v[0], v[1], v[2]);
+    }
+    free(lobes);
+    free(sum);
+    free(x);
+}
+
+/* The table's medulla part alone. */
+static rgb table_medulla_eval(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, vec3 wi)
+{
+    plm_fiber_medulla_query q;
+    plm_fiber_medulla_prepare(&t->medulla, wo, hmin, hmax, &q);
+    rgb f;
+    double pdf;
+    plm_fiber_medulla_lookup(&q, wi, &f, &pdf);
+    return f;
+}
+
+/* Relative L2 difference per channel of the table's medulla part against
+ * reference_medulla over `views` random (wo, h-interval) with `n` uniform wi
+ * each, the reference's own noise taken out: err^2 = (sum (a - m)^2 - sum
+ * var) / (sum m^2 - sum var), as E[(a - m)^2] = (a - mean)^2 + var. noise
+ * receives sqrt(sum var / (sum m^2 - sum var)), the reference's relative
+ * noise, which the estimate of err is only good to a fraction of. Compared
+ * is eval cos(theta_i), what a renderer integrates: the medulla part is
+ * spread over all theta_i, and eval's 1 / cos^2(theta_i) would give the few
+ * wi nearest the fiber's axis most of the L2 norm (its square is not even
+ * integrable there). */
+static inline void medulla_error(const plm_fiber_table *t, plm_rng *rng, int views, int n, int sets, double err[3],
+                                 double noise[3])
+{
+    double num[3] = {0, 0, 0}, den[3] = {0, 0, 0}, vs[3] = {0, 0, 0};
+    vec3 *wi = malloc(sizeof *wi * (size_t)n);
+    rgb *mean = malloc(sizeof *mean * (size_t)n), *var = malloc(sizeof *var * (size_t)n);
+    for (int q = 0; q < views; ++q) {
+        vec3 wo = random_sphere(rng);
+        double h0 = 2.0 * plm_rng_uniform(rng) - 1.0, h1 = 2.0 * plm_rng_uniform(rng) - 1.0;
+        double hmin = fmin(h0, h1), hmax = fmax(h0, h1);
+        for (int i = 0; i < n; ++i)
+            wi[i] = random_sphere(rng);
+        reference_medulla(&t->params, wo, hmin, hmax, wi, n, sets, rng, mean, var);
+        for (int i = 0; i < n; ++i) {
+            double cw = sqrt(wi[i].x * wi[i].x + wi[i].y * wi[i].y);
+            mean[i] = rgb_scale(mean[i], cw);
+            var[i] = rgb_scale(var[i], cw * cw);
+            rgb a = rgb_scale(table_medulla_eval(t, wo, hmin, hmax, wi[i]), cw);
+            double av[3] = {a.r, a.g, a.b}, mv[3] = {mean[i].r, mean[i].g, mean[i].b},
+                   vv[3] = {var[i].r, var[i].g, var[i].b};
+            for (int c = 0; c < 3; ++c) {
+                num[c] += plm_sqr(av[c] - mv[c]);
+                den[c] += plm_sqr(mv[c]);
+                vs[c] += vv[c];
+            }
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        double signal = den[c] - vs[c];
+        err[c] = signal > 0.0 ? sqrt(fmax(0.0, num[c] - vs[c]) / signal) : 0.0;
+        noise[c] = signal > 0.0 ? sqrt(vs[c] / signal) : 0.0;
+    }
+    free(wi);
+    free(mean);
+    free(var);
 }
 
 /* Relative L2 difference per channel, sqrt(sum (table - ref)^2 / sum ref^2),

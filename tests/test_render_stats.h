@@ -8,16 +8,19 @@
 
 typedef struct estimate { double mean, se; } estimate;
 
-/* Mean radiance (channel mean) over the film: n independent samples, each
- * from a uniformly random film position through the pinhole, so the
- * standard error is that of iid samples. Every sample must be finite. */
-static estimate film_mean(const plm_world *w, plm_estimator est, int max_depth, long n, uint64_t seed)
+/* Mean radiance (channel mean) over the film rectangle [x0, x1) x [y0, y1)
+ * (fractions of the film): n independent samples, each from a uniformly
+ * random position in it through the pinhole, so the standard error is that
+ * of iid samples. Every sample must be finite. */
+static inline estimate film_region_mean(const plm_world *w, plm_estimator est, int max_depth, long n, uint64_t seed,
+                                        double x0, double y0, double x1, double y1)
 {
     double sum = 0.0, sum2 = 0.0;
     for (long i = 0; i < n; ++i) {
         plm_rng rng;
         plm_rng_seed(&rng, plm_hash64(seed, (uint64_t)i, 99), 3);
-        double x = plm_rng_uniform(&rng) * w->camera.width, y = plm_rng_uniform(&rng) * w->camera.height;
+        double x = (x0 + (x1 - x0) * plm_rng_uniform(&rng)) * w->camera.width;
+        double y = (y0 + (y1 - y0) * plm_rng_uniform(&rng)) * w->camera.height;
         vec3 o, d;
         plm_camera_ray(&w->camera, x, y, 0.5, 0.5, &o, &d);
         long long rays = 0;
@@ -31,6 +34,12 @@ static estimate film_mean(const plm_world *w, plm_estimator est, int max_depth, 
     e.mean = sum / n;
     e.se = sqrt(fmax(sum2 / n - e.mean * e.mean, 0.0) / n);
     return e;
+}
+
+/* The whole film. */
+static inline estimate film_mean(const plm_world *w, plm_estimator est, int max_depth, long n, uint64_t seed)
+{
+    return film_region_mean(w, est, max_depth, n, seed, 0.0, 0.0, 1.0, 1.0);
 }
 
 static void assert_agree(estimate a, estimate b, double z_max)

@@ -1,0 +1,588 @@
+/* The medulla's part of the tabulated fiber BCSDF: building its table, and
+ * eval / pdf / sample from it (docs/fiber.md has the design, its resolution
+ * and its error).
+ *
+ * Notation. t is a point (ca + a cos t, cb + b sin t) of the medulla's
+ * boundary. The emission E_c(t) is what leaves the fiber, per unit of light
+ * reaching t, when the path may still store c lobes: bin masses over
+ * (|theta_i|, phi_i) of sum_k A_k G_M G_N, the mean over the diffuse
+ * directions (and later bounces) of the lobes that follow. A view node's
+ * table holds, for rows j = 0..h_cells, bands a (|theta_i| bins) and columns
+ * c = 0..phi_bins,
+ *   S(j, a, c) = integral over h < h_j of the mass in band a with
+ *                phi below column c,
+ * i.e. the emission of the point each h reaches, weighted by the light that
+ * reaches it. */
+#include "render/fiber_medulla_table.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/fiber_table.h"
+
+#define HALF_PI (0.5 * PLM_PI)
+
+/* Medulla points the emission is tabulated at (linear in t between them),
+ * its azimuth bins per table column, and the lobe budgets it keeps apart:
+ * 1, 2, ... up to MAX_CLASSES - 1, the last class all p->lobes - 1 lobes
+ * (exact for up to 5 lobes; see docs/fiber.md). */
+enum { POINTS = 96, PHI_REFINE = 2, MAX_CLASSES = 4 };
+
+/* ---- layout -------------------------------------------------------------- */
+
+static size_t row_floats(const plm_fiber_medulla_table *m)
+{
+    return 3 * (size_t)m->res.theta_bins * (size_t)(m->res.phi_bins + 1);
+}
+static size_t node_floats(const plm_fiber_medulla_table *m) { return (size_t)(m->res.h_cells + 1) * row_floats(m); }
+static int node_count(const plm_fiber_medulla_table *m) { return m->res.theta_nodes * m->res.phi_nodes; }
+
+void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
+                              plm_fiber_medulla_table *m)
+{
+    memset(m, 0, sizeof *m);
+    if (!plm_fiber_has_medulla(p) || p->lobes < 2)
+        return; /* no lobe can follow a medulla bounce */
+    /* The part is smooth in theta_i and phi_i but not in h (where paths
+     * start or stop meeting the medulla) nor in phi_o for an elliptical
+     * cortex (docs/fiber.md has the errors): h cells and phi_o nodes take
+     * the memory. */
+    int round_fiber = symmetry == PLM_FIBER_TABLE_ROTATIONAL;
+    plm_fiber_medulla_resolution d = {round_fiber ? 13 : 7, 1, round_fiber ? 48 : 32, 12, 24, 4096};
+    m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
+    m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
+    m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d.theta_bins;
+    m->res.phi_bins = r && r->phi_bins > 0 ? r->phi_bins : d.phi_bins;
+    m->res.directions = r && r->directions > 0 ? r->directions : d.directions;
+    size_t node_bytes = sizeof(float) * node_floats(m);
+    int fit = (int)(PLM_FIBER_MEDULLA_BUDGET / (node_bytes * (size_t)m->res.theta_nodes));
+    m->res.phi_nodes = round_fiber ? 1 : r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 13 ? 13 : fit;
+    m->symmetry = symmetry;
+    m->theta_max = plm_radians(89.0);
+    m->eta = p->eta;
+    m->u_last = plm_fiber_theta_u(p->eta, m->theta_max);
+    plm_fiber_phi_nodes(symmetry, m->res.phi_nodes, &m->phi_lo, &m->phi_step);
+    m->floats = node_floats(m) * (size_t)node_count(m);
+}
+
+plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
+{
+    if (m->res.theta_nodes == 0)
+        return PLM_OK;
+    m->h_node = plm_fiber_h_nodes(m->res.h_cells);
+    return m->h_node ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
+}
+
+void plm_fiber_medulla_release(plm_fiber_medulla_table *m)
+{
+    free(m->h_node);
+    m->h_node = NULL;
+}
+
+/* ---- building ------------------------------------------------------------ */
+
+/* The emission: per medulla point and lobe class, bin masses over |theta_i|
+ * bands and phi_i bins (PHI_REFINE per table column), RGB. */
+typedef struct emission {
+    int classes, bands, bins;
+    float *mass;
+} emission;
+
+static size_t emission_floats(const emission *e) { return 3 * (size_t)e->bands * (size_t)e->bins; }
+
+static const float *emission_at(const emission *e, int point, int cls)
+{
+    return e->mass + emission_floats(e) * ((size_t)point * (size_t)e->classes + (size_t)cls);
+}
+
+/* The class of a path that may still store `budget` lobes. */
+static int class_of(int budget, int classes) { return budget < classes ? budget - 1 : classes - 1; }
+
+/* Mass of G_M about Theta (normalised on [-pi/2, pi/2]) in each |theta|
+ * band [a w, (a + 1) w], both signs of theta together. */
+static void band_masses(double *mass, int bands, double beta, double Theta)
+{
+    double s = 1.0 / (sqrt(2.0) * beta), w = HALF_PI / bands;
+    double z = 0.5 * (erf((HALF_PI - Theta) * s) + erf((HALF_PI + Theta) * s));
+    double prev_hi = erf(-Theta * s), prev_lo = prev_hi; /* at +theta and -theta */
+    for (int a = 0; a < bands; ++a) {
+        double x = (a + 1) * w, hi = erf((x - Theta) * s), lo = erf((-x - Theta) * s);
+        mass[a] = 0.5 * ((hi - prev_hi) + (prev_lo - lo)) / z;
+        prev_hi = hi;
+        prev_lo = lo;
+    }
+}
+
+/* Lobes are first binned finely in (Theta, Phi) (split linearly between
+ * bin centres), then blurred by the detectors into bands and bins at once:
+ * an erf per lobe would cost ten times its trace. The fine bins are 1/4 and
+ * 1/8 of a degree-scale detector at most, which widens it by under 1%. */
+enum { FINE_THETA = 96, FINE_PHI = 384 };
+
+typedef struct build_ctx {
+    const plm_fiber_params *p;
+    plm_fiber_medulla_table *m;
+    emission e;
+    double *theta_kernel; /* [fine theta][band]: band_masses at the fine bin's centre */
+    double *phi_kernel;   /* [fine phi][emission bin]: G_N's masses about the fine bin's centre */
+    int *phi_lo, *phi_count; /* per fine phi, the window of emission bins it reaches */
+} build_ctx;
+
+static size_t fine_floats(void) { return 3 * (size_t)FINE_THETA * FINE_PHI; }
+
+/* Adds A at (Theta, Phi) to the fine histogram, split between the four
+ * nearest bin centres (Theta clamps at the poles, Phi wraps). */
+static void fine_deposit(double *hist, double Theta, double Phi, rgb A)
+{
+    double xt = (Theta + HALF_PI) / PLM_PI * FINE_THETA - 0.5, xp = (Phi + PLM_PI) / PLM_TWO_PI * FINE_PHI - 0.5;
+    double ft = floor(xt), fp = floor(xp), at = xt - ft, ap = xp - fp;
+    int t0 = (int)ft, t1 = t0 + 1, p0 = ((int)fp % FINE_PHI + FINE_PHI) % FINE_PHI, p1 = (p0 + 1) % FINE_PHI;
+    t0 = t0 < 0 ? 0 : t0 >= FINE_THETA ? FINE_THETA - 1 : t0;
+    t1 = t1 >= FINE_THETA ? FINE_THETA - 1 : t1 < 0 ? 0 : t1;
+    const int ti[2] = {t0, t1}, pi[2] = {p0, p1};
+    const double tw[2] = {1.0 - at, at}, pw[2] = {1.0 - ap, ap};
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+            double *d = hist + 3 * ((size_t)ti[i] * FINE_PHI + pi[j]), w = tw[i] * pw[j];
+            d[0] += w * A.r;
+            d[1] += w * A.g;
+            d[2] += w * A.b;
+        }
+}
+
+/* The detectors' blur of a fine histogram into emission masses (added to out, float). */
+static void blur(const build_ctx *b, const double *hist, double *band_row, float *out)
+{
+    const emission *e = &b->e;
+    for (int a = 0; a < e->bands; ++a) {
+        memset(band_row, 0, sizeof(double) * 3 * FINE_PHI);
+        for (int ft = 0; ft < FINE_THETA; ++ft) {
+            double k = b->theta_kernel[(size_t)ft * e->bands + a];
+            const double *h = hist + 3 * (size_t)ft * FINE_PHI;
+            if (k < 1e-12)
+                continue;
+            for (int x = 0; x < 3 * FINE_PHI; ++x)
+                band_row[x] += k * h[x];
+        }
+        float *dst = out + 3 * (size_t)a * e->bins;
+        for (int fp = 0; fp < FINE_PHI; ++fp) {
+            const double *v = band_row + 3 * fp;
+            if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0)
+                continue;
+            const double *k = b->phi_kernel + (size_t)fp * e->bins;
+            for (int i = 0; i < b->phi_count[fp]; ++i) {
+                int c = (b->phi_lo[fp] + i) % e->bins;
+                dst[3 * c] += (float)(k[c] * v[0]);
+                dst[3 * c + 1] += (float)(k[c] * v[1]);
+                dst[3 * c + 2] += (float)(k[c] * v[2]);
+            }
+        }
+    }
+}
+
+/* The detectors' kernels (once per build). */
+static int make_kernels(build_ctx *b)
+{
+    const emission *e = &b->e;
+    b->theta_kernel = malloc(sizeof(double) * FINE_THETA * (size_t)e->bands);
+    b->phi_kernel = calloc((size_t)FINE_PHI * e->bins * 3, sizeof(double));
+    b->phi_lo = malloc(sizeof(int) * 2 * FINE_PHI);
+    if (!b->theta_kernel || !b->phi_kernel || !b->phi_lo)
+        return 0;
+    b->phi_count = b->phi_lo + FINE_PHI;
+    for (int ft = 0; ft < FINE_THETA; ++ft)
+        band_masses(b->theta_kernel + (size_t)ft * e->bands, e->bands, b->p->beta_m,
+                    -HALF_PI + (ft + 0.5) * PLM_PI / FINE_THETA);
+    double *tmp = b->phi_kernel + (size_t)FINE_PHI * e->bins; /* scratch: the calloc's spare 2/3 */
+    for (int fp = 0; fp < FINE_PHI; ++fp) {
+        memset(tmp, 0, sizeof(double) * 3 * (size_t)e->bins);
+        plm_fiber_gn_deposit(tmp, e->bins, b->p->beta_n, rgb_make(1.0, 0.0, 0.0),
+                             -PLM_PI + (fp + 0.5) * PLM_TWO_PI / FINE_PHI);
+        double *k = b->phi_kernel + (size_t)fp * e->bins;
+        for (int c = 0; c < e->bins; ++c)
+            k[c] = tmp[3 * c];
+        /* G_N reaches 6 std-devs (plm_fiber_gn_deposit): the bins within that of the centre's. */
+        double w = PLM_TWO_PI / e->bins;
+        int half = (int)ceil(6.0 * b->p->beta_n / w) + 1, centre = (int)((fp + 0.5) / FINE_PHI * e->bins);
+        b->phi_count[fp] = 2 * half + 1 < e->bins ? 2 * half + 1 : e->bins;
+        b->phi_lo[fp] = b->phi_count[fp] == e->bins ? 0 : ((centre - half) % e->bins + e->bins) % e->bins;
+    }
+    return 1;
+}
+
+/* The emission of medulla point `point`: the mean over quasi-random diffuse
+ * directions (a rank-1 lattice with a per-point shift) of the lobes that
+ * follow, by lobe index, then summed into the classes. */
+static void build_emission(build_ctx *b, int point, double *scratch, plm_fiber_lobe *lobes)
+{
+    const plm_fiber_params *p = b->p;
+    emission *e = &b->e;
+    int K = b->m->res.directions, max_lobes = p->lobes - 1;
+    double *hist = scratch, *band_row = hist + fine_floats() * (size_t)e->classes;
+    memset(hist, 0, sizeof(double) * fine_floats() * (size_t)e->classes);
+    double t = PLM_TWO_PI * point / POINTS;
+    uint64_t hash = plm_hash64(0x3ed, (uint64_t)point, 1);
+    double s1 = (hash >> 11) * 0x1.0p-53, s2 = (plm_hash64(hash, 2, 3) >> 11) * 0x1.0p-53;
+    plm_rng rng; /* later bounces */
+    plm_rng_seed(&rng, 0x3ed, (uint64_t)point);
+    for (int i = 0; i < K; ++i) {
+        double u1 = (i + s1) / K, u2 = fmod(i * 0.6180339887498949 + s2, 1.0);
+        int n = plm_fiber_trace_from_medulla(p, t, u1, u2, &rng, lobes, max_lobes);
+        for (int k = 0; k < n; ++k)
+            fine_deposit(hist + fine_floats() * (size_t)(k < e->classes ? k : e->classes - 1),
+                         plm_safe_asin(lobes[k].dir.z), atan2(lobes[k].dir.y, lobes[k].dir.x),
+                         rgb_scale(lobes[k].throughput, 1.0 / K));
+    }
+    /* Class c holds the lobes of indices up to c (the last: all of them). */
+    size_t per = emission_floats(e);
+    float *out = e->mass + per * (size_t)point * (size_t)e->classes;
+    memset(out, 0, sizeof(float) * per * (size_t)e->classes);
+    for (int c = 0; c < e->classes; ++c) {
+        blur(b, hist + fine_floats() * (size_t)c, band_row, out + per * (size_t)c);
+        if (c + 1 < e->classes)
+            memcpy(out + per * (size_t)(c + 1), out + per * (size_t)c, sizeof(float) * per);
+    }
+}
+
+/* Pools the emission over the fiber's symmetries, which map medulla points
+ * onto medulla points (POINTS is a multiple of 4) and emission bins onto
+ * emission bins (their count a multiple of POINTS): a rotation by t turns
+ * phi by t; x -> -x takes t to pi - t and phi to pi - phi; y -> -y takes t
+ * and phi to -t and -phi. Each point's emission becomes the mean of its
+ * images, which has the same expectation and less noise. */
+static int symmetrize(build_ctx *b, int symmetry)
+{
+    emission *e = &b->e;
+    size_t per = emission_floats(e), all = per * (size_t)e->classes * POINTS;
+    int bins = e->bins, shift = bins / POINTS, group = symmetry == PLM_FIBER_TABLE_ROTATIONAL ? POINTS
+                                                        : symmetry == PLM_FIBER_TABLE_MIRROR_XY ? 4
+                                                        : symmetry == PLM_FIBER_TABLE_NONE      ? 1
+                                                                                                : 2;
+    if (group == 1)
+        return 1;
+    float *copy = malloc(sizeof(float) * all);
+    if (!copy)
+        return 0;
+    memcpy(copy, e->mass, sizeof(float) * all);
+    for (int k = 0; k < POINTS; ++k)
+        for (int cls = 0; cls < e->classes; ++cls) {
+            float *dst = e->mass + per * ((size_t)k * e->classes + cls);
+            memset(dst, 0, sizeof(float) * per);
+            for (int g = 0; g < group; ++g) {
+                /* The image point and how bins map: bin c of it lands on bin (sign c + offset). */
+                int mx = 0, my = 0, rot = 0;
+                if (symmetry == PLM_FIBER_TABLE_ROTATIONAL)
+                    rot = g;
+                else if (symmetry == PLM_FIBER_TABLE_MIRROR_XY)
+                    mx = g & 1, my = g >> 1;
+                else
+                    mx = g && symmetry == PLM_FIBER_TABLE_MIRROR_X, my = g && symmetry == PLM_FIBER_TABLE_MIRROR_Y;
+                int src = k - rot; /* rotation: E(k) = E(k - g) turned by g points */
+                if (mx)
+                    src = POINTS / 2 - src;
+                if (my)
+                    src = -src;
+                src = ((src % POINTS) + POINTS) % POINTS;
+                const float *from = copy + per * ((size_t)src * e->classes + cls);
+                for (int a = 0; a < e->bands; ++a)
+                    for (int c = 0; c < bins; ++c) {
+                        int to = c + rot * shift; /* centre -pi + (c + 1/2) w */
+                        if (mx)
+                            to = bins / 2 - 1 - to;
+                        if (my)
+                            to = bins - 1 - to;
+                        to = ((to % bins) + bins) % bins;
+                        for (int ch = 0; ch < 3; ++ch)
+                            dst[3 * ((size_t)a * bins + to) + ch] += from[3 * ((size_t)a * bins + c) + ch] / group;
+                    }
+            }
+        }
+    free(copy);
+    return 1;
+}
+
+/* One view node: per h cell, the light reaching each medulla point (split
+ * linearly between the two nearest tabulated points) by the midpoint rule in
+ * asin(h), then those points' emission resampled at the node's columns,
+ * summed into cumulative rows. */
+static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *lobes)
+{
+    const plm_fiber_params *p = b->p;
+    const plm_fiber_medulla_table *m = b->m;
+    const emission *e = &b->e;
+    int bands = m->res.theta_bins, cols = m->res.phi_bins, cells = m->res.h_cells;
+    int it = node / m->res.phi_nodes, ip = node % m->res.phi_nodes;
+    double theta_o = plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, it);
+    double phi_o = m->phi_lo + ip * m->phi_step, w = PLM_TWO_PI / cols, we = PLM_TWO_PI / e->bins;
+    vec3 wo = plm_fiber_direction(theta_o, phi_o);
+    size_t weights = 3 * (size_t)POINTS * (size_t)e->classes;
+    double *reach = scratch, *cell = reach + weights, *row = cell + 3 * (size_t)bands * cols;
+    double *ef = row + 3 * (size_t)bands * (cols + 1);
+    int *e0 = (int *)(ef + cols), *e1 = e0 + cols;
+    /* Column c's centre in the emission's bins (-pi + ... + pi cancel). */
+    double origin = m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? phi_o : 0.0;
+    for (int c = 0; c < cols; ++c) {
+        double x = (origin + (c + 0.5) * w) / we - 0.5;
+        double fl = floor(x);
+        e0[c] = (int)(fl - e->bins * floor(fl / e->bins));
+        e1[c] = (e0[c] + 1) % e->bins;
+        ef[c] = x - fl;
+    }
+    float *out = m->data + node_floats(m) * (size_t)node;
+    memset(row, 0, sizeof(double) * 3 * (size_t)bands * (cols + 1));
+    for (size_t x = 0; x < row_floats(m); ++x)
+        out[x] = 0.0f;
+    double scale = w / we; /* emission bin mass to this column's, through the density */
+    int sub = plm_fiber_h_sub_samples(p->beta_n, cells);
+    for (int j = 0; j < cells; ++j) {
+        memset(reach, 0, sizeof(double) * weights);
+        double g0 = asin(m->h_node[j]), g1 = asin(m->h_node[j + 1]), dg = (g1 - g0) / sub;
+        for (int s = 0; s < sub; ++s) {
+            double g = g0 + (s + 0.5) * dg;
+            plm_fiber_medulla_hit hit;
+            if (!plm_fiber_trace_to_medulla(p, wo, sin(g), lobes, &hit))
+                continue;
+            double x = hit.t / PLM_TWO_PI * POINTS, fl = floor(x), f = x - fl;
+            int k0 = (int)(fl - POINTS * floor(fl / POINTS)), k1 = (k0 + 1) % POINTS;
+            int cls = class_of(p->lobes - hit.lobes, e->classes);
+            rgb T = rgb_scale(hit.throughput, cos(g) * dg);
+            double *r0 = reach + 3 * ((size_t)cls * POINTS + k0), *r1 = reach + 3 * ((size_t)cls * POINTS + k1);
+            r0[0] += (1 - f) * T.r, r0[1] += (1 - f) * T.g, r0[2] += (1 - f) * T.b;
+            r1[0] += f * T.r, r1[1] += f * T.g, r1[2] += f * T.b;
+        }
+        memset(cell, 0, sizeof(double) * 3 * (size_t)bands * cols);
+        for (int cls = 0; cls < e->classes; ++cls)
+            for (int k = 0; k < POINTS; ++k) {
+                const double *T = reach + 3 * ((size_t)cls * POINTS + k);
+                if (T[0] == 0.0 && T[1] == 0.0 && T[2] == 0.0)
+                    continue;
+                const float *em = emission_at(e, k, cls);
+                for (int a = 0; a < bands; ++a) {
+                    const float *ea = em + 3 * (size_t)a * e->bins;
+                    double *ca = cell + 3 * (size_t)a * cols;
+                    for (int c = 0; c < cols; ++c) {
+                        const float *v0 = ea + 3 * e0[c], *v1 = ea + 3 * e1[c];
+                        double f1 = ef[c] * scale, f0 = scale - f1;
+                        for (int ch = 0; ch < 3; ++ch)
+                            ca[3 * c + ch] += T[ch] * (f0 * v0[ch] + f1 * v1[ch]);
+                    }
+                }
+            }
+        /* S(j + 1, a, c) = S(j, a, c) + the cell's mass of band a below column c. */
+        float *dst = out + row_floats(m) * (size_t)(j + 1);
+        for (int a = 0; a < bands; ++a)
+            for (int ch = 0; ch < 3; ++ch) {
+                double below = 0.0;
+                for (int c = 0; c <= cols; ++c) {
+                    size_t o = 3 * ((size_t)a * (cols + 1) + c) + ch;
+                    row[o] += below;
+                    dst[o] = (float)row[o];
+                    if (c < cols)
+                        below += cell[3 * ((size_t)a * cols + c) + ch];
+                }
+            }
+    }
+}
+
+static void emission_work(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes)
+{
+    build_emission(ctx, item, scratch, lobes);
+}
+
+static void node_work(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes)
+{
+    build_node(ctx, item, scratch, lobes);
+}
+
+plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
+                                   const struct plm_fiber_table_options *o, double started, plm_error *err)
+{
+    if (m->res.theta_nodes == 0)
+        return PLM_OK;
+    build_ctx b = {p, m, {p->lobes - 1 < MAX_CLASSES ? p->lobes - 1 : MAX_CLASSES, m->res.theta_bins,
+                          /* emission bins: at least PHI_REFINE per column, a multiple of POINTS */
+                          (PHI_REFINE * m->res.phi_bins + POINTS - 1) / POINTS * POINTS, NULL},
+                   NULL, NULL, NULL, NULL};
+    size_t per = emission_floats(&b.e);
+    b.e.mass = malloc(sizeof(float) * per * (size_t)b.e.classes * POINTS);
+    size_t emission_scratch = sizeof(double) * (fine_floats() * (size_t)b.e.classes + 3 * (size_t)FINE_PHI);
+    int cols = m->res.phi_bins, bands = m->res.theta_bins;
+    size_t node_scratch = sizeof(double) * (3 * (size_t)POINTS * b.e.classes + 3 * (size_t)bands * cols +
+                                            3 * (size_t)bands * (cols + 1) + (size_t)cols) +
+                          sizeof(int) * 2 * (size_t)cols;
+    int ok = b.e.mass && make_kernels(&b) &&
+             plm_fiber_parallel(emission_work, &b, POINTS, emission_scratch, p->lobes, o, "medulla emission", started) &&
+             symmetrize(&b, m->symmetry) &&
+             plm_fiber_parallel(node_work, &b, node_count(m), node_scratch, p->lobes, o, "medulla views", started);
+    free(b.e.mass);
+    free(b.theta_kernel);
+    free(b.phi_kernel);
+    free(b.phi_lo);
+    return ok ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory (medulla)");
+}
+
+/* ---- queries ------------------------------------------------------------- */
+
+static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
+
+void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, vec3 wo, double hmin, double hmax,
+                               plm_fiber_medulla_query *q)
+{
+    q->table = NULL;
+    q->total = 0.0;
+    double ct = sqrt(wo.x * wo.x + wo.y * wo.y);
+    if (m->res.theta_nodes == 0 || !(ct > 1e-12) || !(hmin <= hmax))
+        return;
+    q->table = m;
+    double theta_o = atan2(wo.z, ct);
+    q->phi_o = atan2(wo.y, wo.x);
+    double phi = plm_fiber_fold_phi(m->symmetry, q->phi_o, &q->flip);
+    q->origin = m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? 0.0 : phi;
+    if (q->flip) {
+        double lo = -hmax;
+        hmax = -hmin;
+        hmin = lo;
+    }
+    /* Bilinear weights over (|theta_o|, phi_o), on the other part's theta_o nodes' spacing. */
+    int n = m->res.theta_nodes, ip[2];
+    double len = hypot(ct, wo.z), fp;
+    double ft = fabs(theta_o) < m->theta_max ? plm_fiber_theta_coordinate(m->eta, m->u_last, m->theta_max, n,
+                                                                          fabs(theta_o), fabs(wo.z) / len, ct / len)
+                                             : n - 1.0;
+    int it = (int)ft < n - 1 ? (int)ft : n - 2;
+    ft -= it;
+    plm_fiber_phi_weights(m->symmetry, m->res.phi_nodes, m->phi_lo, m->phi_step, phi, ip, &fp);
+    int nodes[4] = {it * m->res.phi_nodes + ip[0], it * m->res.phi_nodes + ip[1], (it + 1) * m->res.phi_nodes + ip[0],
+                    (it + 1) * m->res.phi_nodes + ip[1]};
+    q->weight[0] = (1 - ft) * (1 - fp), q->weight[1] = (1 - ft) * fp;
+    q->weight[2] = ft * (1 - fp), q->weight[3] = ft * fp;
+    plm_fiber_h_rows rows;
+    plm_fiber_interval_rows(m->h_node, m->res.h_cells, plm_clamp(hmin, -1.0, 1.0), plm_clamp(hmax, -1.0, 1.0), &rows);
+    q->rows = rows.n;
+    for (int r = 0; r < q->rows; ++r) {
+        q->row[r] = row_floats(m) * (size_t)rows.row[r];
+        q->row_coef[r] = rows.coef[r];
+    }
+    size_t last = 3 * (size_t)(m->res.phi_bins + 1); /* a band's total is its last column */
+    for (int c = 0; c < 4; ++c) {
+        q->corner[c] = m->data + node_floats(m) * (size_t)nodes[c];
+        double total = 0.0;
+        for (int r = 0; r < q->rows; ++r)
+            for (int a = 0; a < m->res.theta_bins; ++a) {
+                const float *v = q->corner[c] + q->row[r] + last * (size_t)(a + 1) - 3;
+                total += q->row_coef[r] * (v[0] + v[1] + v[2]) / 3.0;
+            }
+        q->corner_total[c] = fmax(0.0, total);
+        q->total += q->weight[c] * q->corner_total[c];
+    }
+}
+
+/* Corner c's combined rows at band a, column col, RGB. */
+static rgb column(const plm_fiber_medulla_query *q, int c, int a, int col)
+{
+    const float *base = q->corner[c] + 3 * ((size_t)a * (q->table->res.phi_bins + 1) + col);
+    double r = 0.0, g = 0.0, b = 0.0;
+    for (int i = 0; i < q->rows; ++i) {
+        const float *v = base + q->row[i];
+        r += q->row_coef[i] * v[0];
+        g += q->row_coef[i] * v[1];
+        b += q->row_coef[i] * v[2];
+    }
+    return rgb_make(r, g, b);
+}
+
+/* Bin (a, col) of corner c (col wraps). */
+static rgb bin_mass(const plm_fiber_medulla_query *q, int c, int a, int col)
+{
+    return rgb_sub(column(q, c, a, col + 1), column(q, c, a, col));
+}
+
+void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, vec3 wi, rgb *f, double *pdf)
+{
+    if (f)
+        *f = rgb_gray(0.0);
+    *pdf = 0.0;
+    double ct = sqrt(wi.x * wi.x + wi.y * wi.y);
+    if (!q->table || !(q->total > 0.0) || !(ct > 1e-12))
+        return;
+    const plm_fiber_medulla_table *m = q->table;
+    int bands = m->res.theta_bins, cols = m->res.phi_bins;
+    double wa = HALF_PI / bands, wc = PLM_TWO_PI / cols;
+    double d = wrap_pi(atan2(wi.y, wi.x) - q->phi_o), delta = wrap_pi(q->origin + (q->flip ? -d : d));
+    double theta = fabs(atan2(wi.z, ct));
+    /* Bin centres around wi: below band 0's centre the density is flat (the
+     * mirror image of band 0 is itself); beyond the last band's it is
+     * extrapolated linearly, as the density falls toward the poles, where
+     * eval's 1 / cos^2 magnifies it; columns wrap. */
+    double xa = theta / wa - 0.5, xc = (delta + PLM_PI) / wc - 0.5, flc = floor(xc);
+    int a0 = xa < 0.0 ? 0 : (int)xa, c0 = ((int)flc + cols) % cols, c1 = (c0 + 1) % cols;
+    a0 = a0 > bands - 2 ? bands - 2 : a0;
+    int a1 = a0 + 1, in_a = (int)plm_clamp(floor(theta / wa), 0.0, bands - 1.0); /* the band holding wi */
+    double fa = xa < 0.0 ? 0.0 : xa - a0, fc = xc - flc;
+    int in_c = fc >= 0.5 ? c1 : c0;
+    rgb sum = rgb_gray(0.0);
+    double mass = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        if (!(q->weight[c] > 0.0))
+            continue;
+        if (f) {
+            rgb m00 = bin_mass(q, c, a0, c0), m01 = bin_mass(q, c, a0, c1);
+            rgb m10 = bin_mass(q, c, a1, c0), m11 = bin_mass(q, c, a1, c1);
+            rgb lo = rgb_add(rgb_scale(m00, 1.0 - fc), rgb_scale(m01, fc));
+            rgb hi = rgb_add(rgb_scale(m10, 1.0 - fc), rgb_scale(m11, fc));
+            sum = rgb_add(sum, rgb_scale(rgb_add(rgb_scale(lo, 1.0 - fa), rgb_scale(hi, fa)), q->weight[c]));
+        }
+        mass += q->weight[c] * fmax(0.0, rgb_mean(bin_mass(q, c, in_a, in_c)));
+    }
+    double area = 2.0 * wa * wc; /* a band holds both signs of theta_i */
+    if (f) {
+        double s = 1.0 / (area * ct * ct);
+        *f = rgb_make(fmax(0.0, sum.r * s), fmax(0.0, sum.g * s), fmax(0.0, sum.b * s));
+    }
+    *pdf = mass / (q->total * area * ct);
+}
+
+int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, vec3 *wi)
+{
+    if (!q->table || !(q->total > 0.0))
+        return 0;
+    const plm_fiber_medulla_table *m = q->table;
+    int bands = m->res.theta_bins, cols = m->res.phi_bins;
+    double u = u0 * q->total;
+    int c = 0;
+    while (c < 3 && (u >= q->weight[c] * q->corner_total[c] || q->weight[c] * q->corner_total[c] <= 0.0)) {
+        u -= q->weight[c] * q->corner_total[c];
+        ++c;
+    }
+    if (!(q->weight[c] * q->corner_total[c] > 0.0))
+        return 0;
+    /* The band, by its mass: u1 picks it, the rest of u1 the sign and the position in it. */
+    double target = u1 * q->corner_total[c], band_mass = 0.0;
+    int a = 0;
+    for (; a < bands; ++a) {
+        band_mass = fmax(0.0, rgb_mean(column(q, c, a, cols)));
+        if (target < band_mass || a == bands - 1)
+            break;
+        target -= band_mass;
+    }
+    if (!(band_mass > 0.0))
+        return 0;
+    double v = plm_clamp(target / band_mass, 0.0, 1.0) * 2.0, sign = v < 1.0 ? -1.0 : 1.0;
+    double theta = sign * (a + (v < 1.0 ? v : v - 1.0)) * (HALF_PI / bands);
+    /* The column by the band's cumulative row. */
+    double goal = u2 * band_mass;
+    int lo = 0, hi = cols; /* column lo <= goal < column hi */
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (rgb_mean(column(q, c, a, mid)) <= goal)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    double x0 = rgb_mean(column(q, c, a, lo)), x1 = rgb_mean(column(q, c, a, lo + 1));
+    if (!(x1 > x0))
+        return 0;
+    double delta = -PLM_PI + (lo + plm_clamp((goal - x0) / (x1 - x0), 0.0, 1.0)) * (PLM_TWO_PI / cols) - q->origin;
+    *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
+    return 1;
+}

@@ -1,0 +1,87 @@
+/* The medulla's part of the tabulated fiber BCSDF: the mean over h in
+ * [h-, h+] and over the medulla's diffuse bounces of the lobes that met the
+ * medulla, tabulated in expectation, so the tabulated estimator is
+ * deterministic (docs/fiber.md, "The medulla's part").
+ *
+ * A path is deterministic until it first reaches the medulla; what leaves
+ * after that depends only on the point it reached and on how many lobes it
+ * may still store. The build tabulates that emission once per fiber (many
+ * quasi-random diffuse directions per medulla point), then, per view node
+ * (|theta_o|, phi_o), deposits the emission of the points the deterministic
+ * paths reach into a table over (h, |theta_i|, phi_i), cumulative in h and
+ * in phi_i. phi_i is the fiber frame's (folded by the mirrors with wo), as
+ * the emission is anchored to the fiber, not to the view; for a
+ * rotationally symmetric fiber (one view node) it is phi_i - phi_o. The
+ * part is symmetric in theta_i (a
+ * diffuse bounce forgets the sign of the longitudinal direction), and
+ * independent of the sign of theta_o. */
+#ifndef PLUMAGE_RENDER_FIBER_MEDULLA_TABLE_H
+#define PLUMAGE_RENDER_FIBER_MEDULLA_TABLE_H
+
+#include <stddef.h>
+
+#include "render/fiber.h"
+
+/* Default resolution aims at this many bytes (within the fiber table's budget). */
+#define PLM_FIBER_MEDULLA_BUDGET ((size_t)10 << 20)
+
+/* Resolution of the medulla table; 0 = the defaults of docs/fiber.md. */
+typedef struct plm_fiber_medulla_resolution {
+    int theta_nodes, phi_nodes; /* view nodes over |theta_o| and phi_o (in the symmetry's range) */
+    int h_cells;                /* uniform in asin(h), as the other part's */
+    int theta_bins, phi_bins;   /* |theta_i| over [0, pi/2], phi_i over [-pi, pi) */
+    int directions;             /* quasi-random diffuse directions per medulla point */
+} plm_fiber_medulla_resolution;
+
+typedef struct plm_fiber_medulla_table {
+    plm_fiber_medulla_resolution res; /* theta_nodes 0: no medulla, no table */
+    int symmetry;                     /* the fiber table's (render/fiber_table.h) */
+    double theta_max, eta, u_last; /* theta_o nodes as the other part's (render/fiber_table.h) */
+    double phi_lo, phi_step;
+    double *h_node; /* h_cells + 1 cell bounds */
+    float *data;    /* per node, rows 0..h_cells, bands 0..theta_bins-1, columns 0..phi_bins, RGB;
+                     * points into the fiber table's data */
+    size_t floats;
+} plm_fiber_medulla_table;
+
+/* The resolution for p (theta_nodes 0 without a medulla) and its size in
+ * floats, given the fiber table's symmetry; r overrides the defaults. */
+void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
+                              plm_fiber_medulla_table *m);
+/* The h cell bounds (data is the caller's). */
+plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err);
+void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
+/* Fills m->data (deterministically) on the threads of o, a
+ * plm_fiber_table_options (render/fiber_table.h), showing progress on stderr
+ * as plm_fiber_parallel does. */
+struct plm_fiber_table_options;
+plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
+                                   const struct plm_fiber_table_options *o, double started, plm_error *err);
+
+/* A prepared query: the four view nodes around wo with their bilinear
+ * weights and the rows whose combination is the mean over [h-, h+]. */
+typedef struct plm_fiber_medulla_query {
+    const plm_fiber_medulla_table *table; /* NULL: no medulla part */
+    const float *corner[4];
+    double weight[4];
+    double corner_total[4]; /* each node's energy over the interval (mean of RGB) */
+    double total;           /* sum_c weight_c corner_total_c */
+    size_t row[4];          /* row offsets (floats) in a node ... */
+    double row_coef[4];     /* ... and their coefficients, divided by (h+ - h-) */
+    int rows, flip;
+    double phi_o;  /* of wo */
+    double origin; /* the columns' azimuth is phi_i - phi_o (mirrored by flip) plus this */
+} plm_fiber_medulla_query;
+
+void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, vec3 wo, double hmin, double hmax,
+                               plm_fiber_medulla_query *q);
+/* eval into *f (if not NULL): the bin densities interpolated bilinearly
+ * between bin centres, over cos^2(theta_i); and the sampler's
+ * piecewise-constant solid-angle density into *pdf. */
+void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, vec3 wi, rgb *f, double *pdf);
+/* A node by energy (u0), a |theta_i| band by its mass and the sign of
+ * theta_i (u1), a phi_i bin by the band's cumulative row (u2), uniform
+ * within the bin. Returns 0 if there is nothing to sample. */
+int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, vec3 *wi);
+
+#endif
