@@ -417,8 +417,11 @@ static plm_result ply_read_element(ply_file *f, const ply_element *e)
                 continue;
             }
             double n;
-            if (!ply_value(f, p->count_type, &n) || n < 0)
+            if (!ply_value(f, p->count_type, &n))
                 return ply_data_error(f, e, r, "truncated or malformed list");
+            /* Checked before the conversion to an integer (found by fuzz_mesh_ply: 6.7e95). */
+            if (!(n >= 0 && n <= 1 << 30) || n != floor(n))
+                return ply_data_error(f, e, r, "a list's count must be a whole number in [0, 2^30]");
             if (i == face_list && n < 3)
                 return ply_data_error(f, e, r, "a face needs at least 3 vertices");
             for (long long k = 0; k < (long long)n; ++k) {

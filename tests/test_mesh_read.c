@@ -164,6 +164,11 @@ static void malformed_files_are_refused(void **state)
     write_text("mr_short.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                "property float z\nend_header\n0 0 0\n1 0 x\n0 1 0\n");
     assert_refused("mr_short.ply", PLM_ERR_PARSE, "vertex 1: truncated or malformed value");
+    /* A list count beyond any integer type (found by fuzz_mesh_ply; converting it was undefined). */
+    write_text("mr_list.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                              "end_header\n0 0 0\n1 0 0\n0 1 0\n6666666666666666666666666666666666666666 0 1 2\n");
+    assert_refused("mr_list.ply", PLM_ERR_PARSE, "face 0: a list's count must be a whole number in [0, 2^30]");
     /* A pipe is not read (opening it would wait for a writer). */
     remove("mr_fifo.ply");
     assert_int_equal(mkfifo("mr_fifo.ply", 0600), 0);
