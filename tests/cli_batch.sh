@@ -56,15 +56,8 @@ expect_ok "the preset sweep lists its jobs" "$PLUMAGE" batch "$PLUMAGE_SOURCE_DI
 cat > kill.json <<'JSON'
 {"scene": "tiny.json", "jobs": [{"name": "a", "spp": 1}, {"name": "b", "spp": 1}, {"name": "slow", "spp": 1000000}]}
 JSON
-"$PLUMAGE" batch kill.json --parallel 1 --quiet >kill.out 2>&1 &
-batch_pid=$!
-for _ in $(seq 300); do [ -e kill/0002-slow/started.json ] && break; sleep 0.1; done
-sleep 0.5
-kill -9 "$batch_pid"
-wait "$batch_pid" 2>/dev/null
-slow_pid=$(sed -nE 's/.*"pid":[[:space:]]*([0-9]+).*/\1/p' kill/0002-slow/started.json)
-for _ in $(seq 50); do kill -0 "$slow_pid" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$slow_pid" 2>/dev/null && fail "the running job died with the batch" || pass "the running job died with the batch"
+kill_batch_mid_job kill.json kill/0002-slow started.json
+kill -0 "$KILLED_JOB_PID" 2>/dev/null && fail "the running job died with the batch" || pass "the running job died with the batch"
 if [ -s kill/0000-a/summary.json ] && [ -s kill/0001-b/summary.json ] && [ ! -e kill/0002-slow/summary.json ] &&
    [ -z "$(ls kill/0002-slow | grep -E 'image|summary')" ]; then pass "killed job left no images or summary"
 else fail "killed job left no images or summary: $(ls -a kill/*)"; fi

@@ -109,15 +109,9 @@ cat > kill.json <<'JSON'
 {"scene": "scenes/plumage.json", "resolution": [40, 30],
  "jobs": [{"name": "a", "spp": 1}, {"name": "slow", "spp": 1000000}]}
 JSON
-"$PLUMAGE" batch kill.json --parallel 1 --quiet >kill.out 2>&1 &
-batch_pid=$!
-for _ in $(seq 600); do [ -e kill/0001-slow/started.json ] && break; sleep 0.1; done
-for _ in $(seq 600); do [ -e kill/0001-slow/scene.json ] && break; sleep 0.1; done
-sleep 0.5
-kill -9 "$batch_pid"
-wait "$batch_pid" 2>/dev/null
-slow_pid=$(sed -nE 's/.*"pid":[[:space:]]*([0-9]+).*/\1/p' kill/0001-slow/started.json)
-for _ in $(seq 50); do kill -0 "$slow_pid" 2>/dev/null || break; sleep 0.1; done
+# Killed once its scene and assets are written, while it renders.
+kill_batch_mid_job kill.json kill/0001-slow scene.json
+kill -0 "$KILLED_JOB_PID" 2>/dev/null && fail "the running job died with the batch" || pass "the running job died with the batch"
 [ -s kill/0000-a/summary.json ] && [ ! -e kill/0001-slow/summary.json ] && [ ! -e kill/0001-slow/image.png ] &&
     pass "killed job: no summary, no image" || fail "killed job: $(ls -a kill/*)"
 sed -i 's/1000000/1/' kill.json

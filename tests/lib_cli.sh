@@ -49,3 +49,16 @@ expect_image() {
 }
 # same_pixels A B: the two images have identical pixels (headers are not compared).
 same_pixels() { idiff -q -fail 0 -warn 0 "$1" "$2" >/dev/null 2>&1; }
+# kill_batch_mid_job MANIFEST JOB_DIR FILE: runs `plumage batch MANIFEST --parallel 1 --quiet` in the
+# background, SIGKILLs it half a second after JOB_DIR/FILE appears, and waits (up to 5 s) for the job
+# process named in JOB_DIR/started.json to die with it; its pid is left in KILLED_JOB_PID.
+kill_batch_mid_job() {
+    "$PLUMAGE" batch "$1" --parallel 1 --quiet >kill.out 2>&1 &
+    local batch_pid=$!
+    for _ in $(seq 600); do [ -e "$2/$3" ] && break; sleep 0.1; done
+    sleep 0.5
+    kill -9 "$batch_pid"
+    wait "$batch_pid" 2>/dev/null
+    KILLED_JOB_PID=$(sed -nE 's/.*"pid":[[:space:]]*([0-9]+).*/\1/p' "$2/started.json")
+    for _ in $(seq 50); do kill -0 "$KILLED_JOB_PID" 2>/dev/null || break; sleep 0.1; done
+}
