@@ -427,17 +427,19 @@ static double column_mean(const plm_fiber_table_query *q, int col)
     return m;
 }
 
-/* ... and the mass of bin b in all three channels, as (mean, R, G). */
-static void bin_mass(const plm_fiber_table_query *q, int b, double out[3])
+/* ... and the masses of count (1 or 2) adjacent bins from bin b on, in all
+ * three channels, as (mean, R, G): count + 1 columns, read once per term. */
+static void bin_masses(const plm_fiber_table_query *q, int b, int count, double mass[][3])
 {
-    double m = 0.0, r = 0.0, g = 0.0;
+    double col[3][3] = {{0.0}};
     for (int k = 0; k < q->terms; ++k) {
         const float *v = q->term[k] + 3 * b;
-        m += q->coef[k] * (v[3] - v[0]);
-        r += q->coef[k] * (v[4] - v[1]);
-        g += q->coef[k] * (v[5] - v[2]);
+        for (int i = 0; i < 3 * (count + 1); ++i)
+            col[i / 3][i % 3] += q->coef[k] * v[i];
     }
-    out[0] = m, out[1] = r, out[2] = g;
+    for (int i = 0; i < count; ++i)
+        for (int ch = 0; ch < 3; ++ch)
+            mass[i][ch] = col[i + 1][ch] - col[i][ch];
 }
 
 static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, plm_fiber_table_query *q)
@@ -513,18 +515,24 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
     int n = t->phi_bins;
     double w = bin_width(t), x = (delta + PLM_PI) / w - 0.5, fl = floor(x), frac = x - fl;
     int b0 = ((int)fl + n) % n, b1 = b0 + 1 < n ? b0 + 1 : 0; /* wi lies in b1 if frac >= 0.5 */
-    double m0[3], m1[3];
-    if (f || frac >= 0.5)
-        bin_mass(q, b1, m1);
-    if (f || frac < 0.5)
-        bin_mass(q, b0, m0);
-    if (f) {
+    int bin = frac >= 0.5 ? b1 : b0;
+    double m[2][3], mass;
+    if (!f) {
+        mass = column_mean(q, bin + 1) - column_mean(q, bin);
+    } else {
+        if (b1 == b0 + 1) {
+            bin_masses(q, b0, 2, m);
+        } else {
+            bin_masses(q, b0, 1, &m[0]);
+            bin_masses(q, b1, 1, &m[1]);
+        }
         double s = gm / (w * ct * ct), v[3];
         for (int ch = 0; ch < 3; ++ch)
-            v[ch] = (m0[ch] + (m1[ch] - m0[ch]) * frac) * s;
+            v[ch] = (m[0][ch] + (m[1][ch] - m[0][ch]) * frac) * s;
         *f = rgb_make(fmax(0.0, v[1]), fmax(0.0, v[2]), fmax(0.0, 3.0 * v[0] - v[1] - v[2]));
+        mass = m[bin == b1][0];
     }
-    *pdf = gm * fmax(0.0, frac >= 0.5 ? m1[0] : m0[0]) / (q->total * w * ct);
+    *pdf = gm * fmax(0.0, mass) / (q->total * w * ct);
 }
 
 static void table_lookup(const plm_fiber_table_query *q, vec3 wi, rgb *f, double *pdf)
