@@ -10,6 +10,7 @@
 #include "generate/layout.h"
 #include "generate/species.h"
 #include "render/feather_bsdf.h"
+#include "render/pigment.h"
 #include "render/scene.h"
 #include "scene/layout_block.h"
 
@@ -30,8 +31,9 @@ int cmd_params(int argc, char **argv)
     plm_command_help help = {
         "plumage params [BLOCK...] [--markdown]",
         "Lists the fields of the scene format's and the species format's parameter blocks: type, default,\n"
-        "allowed range, unit and meaning. BLOCK is a block's name (camera, film, feather, fiber, masking, pelt,\n"
-        "ball, wing, variation; shape, shape.rachis, ..., pigment) or a group, scene or species (default: all).\n"
+        "allowed range, unit and meaning. BLOCK is a block's name (camera, film, feather, fiber, pigments, masking,\n"
+        "pelt, ball, wing, variation; shape, shape.rachis, ..., pigment) or a group, scene or species (default:\n"
+        "all).\n"
         "These tables are the ones scene and species files are checked against."};
     const char *names[16];
     int n_names = 0;
@@ -48,6 +50,7 @@ int cmd_params(int argc, char **argv)
     static const plm_ball_params ball;
     static const plm_wing_params wing;
     static const plm_layout_variation variation;
+    static const plm_pigments pigments;
     plm_species species;
     plm_species_default(&species);
     plm_split_draw draw;
@@ -59,6 +62,7 @@ int cmd_params(int argc, char **argv)
         {"scene", &plm_film_param_block, 1, {""}, {&scene.film}},
         {"scene", &plm_feather_material_param_block, 1, {""}, {&material}},
         {"scene", &plm_fiber_param_block, 2, {"barb", "barbule"}, {&feather.barb, &feather.barbule}},
+        {"scene", &plm_pigments_param_block, 1, {""}, {&pigments}},
         {"scene", &plm_masking_param_block, 1, {""}, {&feather.masking}},
         {"scene", &plm_pelt_param_block, 1, {""}, {&pelt}},
         {"scene", &plm_ball_param_block, 1, {""}, {&ball}},

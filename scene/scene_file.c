@@ -11,6 +11,7 @@
 #include "common/json_set.h"
 #include "common/rng.h"
 #include "render/feather_bsdf.h"
+#include "render/pigment.h"
 #include "scene/feathers.h"
 #include "scene/layout_block.h"
 #include "texture/feather.h"
@@ -250,6 +251,21 @@ static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const ch
     return rc == PLM_OK ? plm_shape_sphere(radius, rings, m, r->err) : rc;
 }
 
+/* "pigments": concentrations that give the cortex's sigma_a (render/pigment.h). */
+static plm_result read_pigments(const plm_json_reader *r, const cJSON *fiber, const cJSON *obj,
+                                const char *fiber_path, plm_fiber_params *p)
+{
+    if (cJSON_GetObjectItemCaseSensitive(fiber, "sigma_a"))
+        return plm_json_fail(r, fiber_path, "pigments", "give either sigma_a or pigments, not both");
+    char path[320];
+    snprintf(path, sizeof path, "%s.pigments", fiber_path);
+    plm_pigments c = {0};
+    plm_result rc = plm_params_read(r, obj, path, &plm_pigments_param_block, NULL, &c);
+    if (rc == PLM_OK)
+        p->sigma_a = plm_pigments_sigma_a(&c);
+    return rc;
+}
+
 /* A fiber block (docs/fiber.md); absent fields keep p's values. */
 static plm_result read_fiber(const plm_json_reader *r, const cJSON *parent, const char *parent_path,
                              const char *key, plm_fiber_params *p)
@@ -257,9 +273,13 @@ static plm_result read_fiber(const plm_json_reader *r, const cJSON *parent, cons
     const cJSON *obj = cJSON_GetObjectItemCaseSensitive(parent, key);
     if (!obj)
         return PLM_OK;
+    static const char *const extra[] = {"pigments", NULL};
     char path[300];
     snprintf(path, sizeof path, "%s.%s", parent_path, key);
-    plm_result rc = plm_params_read(r, obj, path, &plm_fiber_param_block, NULL, p);
+    plm_result rc = plm_params_read(r, obj, path, &plm_fiber_param_block, extra, p);
+    const cJSON *pigments = cJSON_GetObjectItemCaseSensitive(obj, "pigments");
+    if (rc == PLM_OK && pigments)
+        rc = read_pigments(r, obj, pigments, path, p);
     if (rc == PLM_OK && p->lobes > PLM_FIBER_SET_MAX_LOBES)
         return plm_json_fail(r, path, "lobes", "%d is out of range [1, %d] in a feather material", p->lobes,
                              PLM_FIBER_SET_MAX_LOBES);

@@ -180,6 +180,28 @@ static void feather_material_fields(void **state)
     plm_scene_free(&s);
 }
 
+/* A fiber's pigments become its sigma_a: concentrations times the published
+ * melanin coefficients (Chiang et al. 2016: eumelanin (0.419, 0.697, 1.37),
+ * pheomelanin (0.187, 0.4, 1.05) per unit radius), summed. */
+static void fiber_pigments_give_sigma_a(void **state)
+{
+    (void)state;
+    write_file("feather/pigments.json",
+               "{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"texture.exr\",\n"
+               "  \"barb\": {\"pigments\": {\"eumelanin\": 2, \"pheomelanin\": 0.5}},\n"
+               "  \"barbule\": {\"pigments\": {}}}}}");
+    plm_scene s;
+    plm_error err;
+    if (load("feather/pigments.json", &s, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    const plm_feather_params *p = s.materials[0].feather;
+    assert_double_near(p->barb.sigma_a.r, 2 * 0.419 + 0.5 * 0.187, 1e-15);
+    assert_double_near(p->barb.sigma_a.g, 2 * 0.697 + 0.5 * 0.4, 1e-15);
+    assert_double_near(p->barb.sigma_a.b, 2 * 1.37 + 0.5 * 1.05, 1e-15);
+    assert_double_near(p->barbule.sigma_a.g, 0.0, 0); /* no pigment: a clear fiber */
+    plm_scene_free(&s);
+}
+
 /* Each bad file must fail with a message holding every listed fragment. */
 static void expect_error(const char *text, const char *const *fragments)
 {
@@ -196,6 +218,12 @@ static void errors_name_file_field_and_allowed_values(void **state)
 {
     (void)state;
     expect_error("{\"camera\": {\"fov\": 200}}", (const char *const[]){"bad.json", "camera.fov", "[0.01, 179]", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"feather/texture.exr\", "
+                 "\"barb\": {\"sigma_a\": [1, 1, 1], \"pigments\": {\"eumelanin\": 1}}}}}",
+                 (const char *const[]){"bad.json", "materials.f.barb.pigments", "sigma_a or pigments", NULL});
+    expect_error("{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"feather/texture.exr\", "
+                 "\"barb\": {\"pigments\": {\"eumelanin\": -1}}}}}",
+                 (const char *const[]){"bad.json", "materials.f.barb.pigments.eumelanin", "[0, 100]", NULL});
     expect_error("{\"camera\": {\"fob\": 20}}",
                  (const char *const[]){"bad.json", "camera.fob", "unknown field", "position", NULL});
     expect_error("{\"film\": {\"spp\": \"many\"}}", (const char *const[]){"film.spp", "number", NULL});
@@ -440,6 +468,7 @@ int main(void)
         cmocka_unit_test(defaults_when_fields_are_absent),
         cmocka_unit_test(includes_resolve_relative_paths),
         cmocka_unit_test(feather_material_fields),
+        cmocka_unit_test(fiber_pigments_give_sigma_a),
         cmocka_unit_test(errors_name_file_field_and_allowed_values),
         cmocka_unit_test(buffer_reads_like_a_file),
         cmocka_unit_test(species_feathers_are_generated_once),
