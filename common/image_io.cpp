@@ -77,6 +77,8 @@ static plm_result image_read(const char *path, int *width, int *height, int *cha
     *pixels = nullptr;
     if (plm_result rc = plm_image_check_png_chunks(path, err); rc != PLM_OK)
         return rc;
+    if (plm_result rc = plm_image_check_exr_header(path, err); rc != PLM_OK)
+        return rc;
     // Only the reader of the format the extension names: a file is never
     // offered to every other format's decoder (docs/robustness.md).
     auto in = ImageInput::create(path);

@@ -34,6 +34,11 @@ plm_result plm_image_check_size(const char *what, long long width, long long hei
  * and are left to the decoder. */
 plm_result plm_image_check_png_chunks(const char *path, plm_error *err);
 
+/* The same for an EXR file's header: OpenEXR allocates an attribute's
+ * declared size before reading it (a 1 kB file declaring a 400 MB string
+ * took 400 MB; found by fuzzing). */
+plm_result plm_image_check_exr_header(const char *path, plm_error *err);
+
 typedef enum plm_pixel_type {
     PLM_PIXEL_FLOAT = 0,  /* 32-bit float (EXR, HDR, TIFF) */
     PLM_PIXEL_UINT8 = 1,  /* PNG, JPEG */

@@ -214,6 +214,38 @@ static void png_chunk_longer_than_the_file_is_refused(void **state)
     remove(png);
 }
 
+/* The same for an EXR attribute's declared size: OpenEXR allocates it first. */
+static void exr_attribute_longer_than_the_file_is_refused(void **state)
+{
+    (void)state;
+    float px[2 * 3 * 3] = {0};
+    char exr[256];
+    snprintf(exr, sizeof exr, "/tmp/plumage-test-attr-%ld.exr", (long)getpid());
+    plm_error err;
+    assert_int_equal(plm_image_write(exr, 3, 2, 3, PLM_PIXEL_FLOAT, px, &err), PLM_OK);
+    assert_int_equal(plm_image_check_exr_header(exr, &err), PLM_OK);
+    /* The first attribute (after the 8-byte magic and version): its name, its type, then its size. */
+    unsigned char head[80];
+    FILE *f = fopen(exr, "r+b");
+    assert_non_null(f);
+    assert_int_equal(fread(head, 1, sizeof head, f), sizeof head);
+    size_t name = strlen((const char *)head + 8), type = strlen((const char *)head + 9 + name);
+    long at = (long)(8 + name + 1 + type + 1);
+    const unsigned char huge[4] = {0x00, 0x84, 0xd7, 0x17}; /* 400,000,000 little-endian */
+    assert_int_equal(fseek(f, at, SEEK_SET), 0);
+    assert_int_equal(fwrite(huge, 1, 4, f), 4);
+    fclose(f);
+    int w, h, c;
+    float *back = NULL;
+    assert_int_equal(plm_image_read(exr, &w, &h, &c, &back, &err), PLM_ERR_PARSE);
+    assert_null(back);
+    char expect[160];
+    snprintf(expect, sizeof expect, "corrupt EXR: the attribute \"%s\" at byte 8 declares 400000000 bytes",
+             (const char *)head + 8);
+    assert_non_null(strstr(err.message, expect));
+    remove(exr);
+}
+
 /* Text lands right of and above its baseline origin, in the asked colour,
  * and nowhere else; with alpha, the text is composited over the image. */
 static void text_is_drawn_at_its_baseline(void **state)
@@ -347,6 +379,7 @@ int main(void)
         cmocka_unit_test(atomic_file_leaves_nothing_on_abort),
         cmocka_unit_test(image_round_trips_through_exr_and_png16),
         cmocka_unit_test(png_chunk_longer_than_the_file_is_refused),
+        cmocka_unit_test(exr_attribute_longer_than_the_file_is_refused),
         cmocka_unit_test(text_is_drawn_at_its_baseline),
         cmocka_unit_test(parameter_tables_read_check_and_print),
         cmocka_unit_test(memory_figures_follow_what_is_touched),
