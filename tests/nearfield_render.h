@@ -180,7 +180,7 @@ static inline void dominant_frequency(const float *rgb, int w, int h, double *kx
 /* The mean colour of a film and the standard error of that mean from the
  * spread of the pixel values (an upper bound on the noise: any structure in
  * the image counts as spread too). */
-static inline void film_mean(const plm_film *f, double mean[3], double se[3])
+static inline void film_pixel_mean(const plm_film *f, double mean[3], double se[3])
 {
     long n = (long)f->width * f->height;
     for (int c = 0; c < 3; ++c) {
@@ -242,7 +242,7 @@ static inline void closeup_check_zoom(const char *species, int size, int spp, co
             closeup_load(species, size, size, spp, pixels_mm[z], far, &scene);
             plm_film film;
             closeup_render(&scene, &film, &pixel);
-            film_mean(&film, mean[far], se[far]);
+            film_pixel_mean(&film, mean[far], se[far]);
             plm_film_free(&film);
             plm_scene_free(&scene);
         }
