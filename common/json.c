@@ -149,23 +149,23 @@ plm_result plm_json_string(const plm_json_reader *r, const cJSON *obj, const cha
 plm_result plm_json_enum(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,
                          const char *const *choices, int def, int *out)
 {
-    const char *s = NULL;
-    plm_result rc = plm_json_string(r, obj, path, key, NULL, &s);
-    if (rc != PLM_OK)
-        return rc;
-    if (!s) {
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!item) {
         *out = def;
         return PLM_OK;
     }
     char list[512] = "";
     for (int i = 0; choices[i]; ++i) {
-        if (strcmp(choices[i], s) == 0) {
+        if (cJSON_IsString(item) && strcmp(choices[i], item->valuestring) == 0) {
             *out = i;
             return PLM_OK;
         }
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s\"%s\"", i ? ", " : "", choices[i]);
     }
-    return plm_json_fail(r, path, key, "\"%s\" is not one of %s", s, list);
+    /* Not a string (a number, an object): what is allowed says more than the type. */
+    if (!cJSON_IsString(item))
+        return plm_json_fail(r, path, key, "expected one of %s", list);
+    return plm_json_fail(r, path, key, "\"%s\" is not one of %s", item->valuestring, list);
 }
 
 static plm_result json_triple(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,

@@ -126,6 +126,21 @@ static void json_errors_name_file_field_and_range(void **state)
     assert_double_near(missing, 0.5, 0.0);
     cJSON_Delete(root);
     remove(good);
+
+    /* An enum names its choices whether the value is an unknown string or not a string at all. */
+    const char *const sides[] = {"left", "right", NULL};
+    cJSON *split = cJSON_Parse("{\"side\": \"up\", \"other\": 2}");
+    int side = -1;
+    assert_int_equal(plm_json_enum(&r, split, "split", "side", sides, 0, &side), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "scene.json: split.side: \"up\" is not one of \"left\", \"right\""));
+    assert_int_equal(plm_json_enum(&r, split, "split", "other", sides, 0, &side), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "scene.json: split.other: expected one of \"left\", \"right\""));
+    assert_int_equal(plm_json_enum(&r, split, "split", "absent", sides, 0, &side), PLM_OK);
+    assert_int_equal(side, 0);
+    cJSON_SetValuestring(cJSON_GetObjectItem(split, "side"), "right");
+    assert_int_equal(plm_json_enum(&r, split, "split", "side", sides, 0, &side), PLM_OK);
+    assert_int_equal(side, 1);
+    cJSON_Delete(split);
 }
 
 static void atomic_file_leaves_nothing_on_abort(void **state)
