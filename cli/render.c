@@ -75,8 +75,8 @@ static plm_result write_resolved(const plm_render_job *job, const plm_scene *sce
     cJSON *film = cJSON_GetObjectItemCaseSensitive(resolved, "film");
     if (!film)
         film = cJSON_AddObjectToObject(resolved, "film");
-    const char *const keys[] = {"width", "height", "spp", "seed", "max_depth", "exposure", "png", "exr"};
-    for (int k = 0; film && k < 8; ++k)
+    const char *const keys[] = {"width", "height", "spp", "seed", "max_depth", "exposure", "png", "exr", NULL};
+    for (int k = 0; film && keys[k]; ++k)
         cJSON_DeleteItemFromObjectCaseSensitive(film, keys[k]);
     const plm_film_desc *f = &scene->film;
     int ok = film && cJSON_AddNumberToObject(film, "width", job->width > 0 ? job->width : f->width) &&
