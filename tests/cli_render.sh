@@ -64,7 +64,9 @@ sed 's/"spp": 4/"spp": 100000/; s/ok\.png/int.png/; s/ok\.exr/int.exr/' ok.json 
 "$PLUMAGE" render long.json 2>int_err.txt &
 pid=$!
 # The progress bar appears once sampling has started (the SIGINT handler is in place by then).
-for _ in $(seq 100); do [ -s int_err.txt ] && break; sleep 0.1; done
+# Wait for the bar itself, and long enough for a loaded machine: a background job of a
+# script starts with SIGINT ignored, so a signal sent before the handler is lost.
+for _ in $(seq 600); do grep -q '%' int_err.txt 2>/dev/null && break; sleep 0.1; done
 sleep 0.3
 kill -INT $pid
 wait $pid
