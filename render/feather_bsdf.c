@@ -17,13 +17,6 @@ void plm_feather_params_default(plm_feather_params *p)
 
 void plm_feather_params_prepare_masking(plm_feather_params *p) { plm_masking_prepare(&p->masking, &p->masking_model); }
 
-/* The prepared masking must be the material's own: a stale one would mask
- * with other parameters than the scene's. */
-static inline int masking_is_prepared(const plm_feather_params *p)
-{
-    return memcmp(&p->masking, &p->masking_model.params, sizeof p->masking) == 0;
-}
-
 plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err)
 {
     const plm_fiber_params *fiber[2] = {&p->barb, &p->barbule};
@@ -86,7 +79,9 @@ int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, fram
 void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
                          plm_masking *out)
 {
-    assert(masking_is_prepared(p));
+    /* The prepared masking must be the material's own: a stale one would mask
+     * with other parameters than the scene's. */
+    assert(memcmp(&p->masking, &p->masking_model.params, sizeof p->masking) == 0);
     plm_masking_eval_window(&p->masking_model, frame_to_local(barb, w), window, out);
 }
 
