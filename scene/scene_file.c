@@ -646,6 +646,8 @@ static plm_result read_species_feather(loader *ld, const plm_json_reader *r, con
         q.inline_species = inline_species;
         snprintf(species_file, sizeof species_file, "%s", r->file);
         snprintf(inline_path, sizeof inline_path, "%s.species", path);
+    } else if (rc == PLM_OK && inline_species && !cJSON_IsString(inline_species)) {
+        rc = plm_json_fail(r, path, "species", "expected a species file (a string) or the species itself (an object)");
     } else if (rc == PLM_OK) {
         rc = plm_scene_read_path(r, obj, path, "species", 1, species_file);
     }

@@ -355,6 +355,8 @@ static void species_fields_have_one_range_everywhere(void **state)
                  (const char *const[]){"long.json", "shape.length", "5000", range, NULL});
     expect_error("{\"feathers\": {\"f\": {\"species\": {\"shape\": {\"length\": 5000}}}}}",
                  (const char *const[]){"bad.json", "feathers.f.species.shape.length", "5000", range, NULL});
+    expect_error("{\"feathers\": {\"f\": {\"species\": 42}}}",
+                 (const char *const[]){"bad.json", "feathers.f.species", "a string) or the species itself", NULL});
     /* The inline species' optics are read like a file's, with their path. */
     expect_error("{\"feathers\": {\"f\": {\"species\": {\"optics\": {\"barb\": {\"eta\": 9}}}}}}",
                  (const char *const[]){"bad.json", "feathers.f.species.optics.barb.eta", NULL});
