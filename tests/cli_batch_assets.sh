@@ -55,11 +55,14 @@ head -c 200 jobs/0000-a/assets/01-layout0.0/vane.ply | grep -q "property float s
 expect_ok "a prototype renders from its asset folder" "$PLUMAGE" render jobs/0000-a/assets/01-layout0.0/feather.json \
     --quiet --resolution 24x24 --spp 2 -o proto.png
 expect_image "the prototype's render" 24 24 proto.png
-cmp -s jobs/0000-a/assets/01-layout0.0/vane.ply jobs/0000-a/assets/02-layout0.1/vane.ply &&
-    fail "the pelt's two prototypes differ" || pass "the pelt's two prototypes differ"
+# differ NAME A B: both files exist and their bytes differ (cmp says 1; 2 is a missing file).
+differ() {
+    cmp -s "$2" "$3"
+    [ $? -eq 1 ] && pass "$1" || fail "$1"
+}
+differ "the pelt's two prototypes differ" jobs/0000-a/assets/01-layout0.0/vane.ply jobs/0000-a/assets/02-layout0.1/vane.ply
 # Variant 0 is the species itself; the others are seeded by the layout's seed.
-cmp -s jobs/0000-a/assets/02-layout0.1/vane.ply jobs/0001-b/assets/02-layout0.1/vane.ply &&
-    fail "another layout seed, another variant" || pass "another layout seed, another variant"
+differ "another layout seed, another variant" jobs/0000-a/assets/02-layout0.1/vane.ply jobs/0001-b/assets/02-layout0.1/vane.ply
 
 # --- every file listed in summary.json with its size ---
 unlisted=""
