@@ -30,10 +30,13 @@ enum { POINTS = 96, PHI_REFINE = 2, MAX_CLASSES = 4 };
 
 /* ---- layout -------------------------------------------------------------- */
 
-static size_t row_floats(const plm_fiber_medulla_table *m)
+/* A row: each band's columns, then the row's total over all bands (what a
+ * prepare reads for each node's energy). */
+static size_t total_offset(const plm_fiber_medulla_table *m)
 {
     return 3 * (size_t)m->res.theta_bins * (size_t)(m->res.phi_bins + 1);
 }
+static size_t row_floats(const plm_fiber_medulla_table *m) { return total_offset(m) + 3; }
 static size_t node_floats(const plm_fiber_medulla_table *m) { return (size_t)(m->res.h_cells + 1) * row_floats(m); }
 static int node_count(const plm_fiber_medulla_table *m) { return m->res.theta_nodes * m->res.phi_nodes; }
 
@@ -370,8 +373,9 @@ static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *
             }
         /* S(j + 1, a, c) = S(j, a, c) + the cell's mass of band a below column c. */
         float *dst = out + row_floats(m) * (size_t)(j + 1);
-        for (int a = 0; a < bands; ++a)
-            for (int ch = 0; ch < 3; ++ch) {
+        for (int ch = 0; ch < 3; ++ch) {
+            double total = 0.0;
+            for (int a = 0; a < bands; ++a) {
                 double below = 0.0;
                 for (int c = 0; c <= cols; ++c) {
                     size_t o = 3 * ((size_t)a * (cols + 1) + c) + ch;
@@ -380,7 +384,10 @@ static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *
                     if (c < cols)
                         below += cell[3 * ((size_t)a * cols + c) + ch];
                 }
+                total += row[3 * ((size_t)a * (cols + 1) + cols) + ch];
             }
+            dst[total_offset(m) + ch] = (float)total;
+        }
     }
 }
 
@@ -463,15 +470,13 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, vec3 wo, double
         q->row[r] = row_floats(m) * (size_t)rows.row[r];
         q->row_coef[r] = rows.coef[r];
     }
-    size_t last = 3 * (size_t)(m->res.phi_bins + 1); /* a band's total is its last column */
     for (int c = 0; c < 4; ++c) {
         q->corner[c] = m->data + node_floats(m) * (size_t)nodes[c];
         double total = 0.0;
-        for (int r = 0; r < q->rows; ++r)
-            for (int a = 0; a < m->res.theta_bins; ++a) {
-                const float *v = q->corner[c] + q->row[r] + last * (size_t)(a + 1) - 3;
-                total += q->row_coef[r] * (v[0] + v[1] + v[2]) / 3.0;
-            }
+        for (int r = 0; r < q->rows; ++r) {
+            const float *v = q->corner[c] + q->row[r] + total_offset(m);
+            total += q->row_coef[r] * (v[0] + v[1] + v[2]) / 3.0;
+        }
         q->corner_total[c] = fmax(0.0, total);
         q->total += q->weight[c] * q->corner_total[c];
     }

@@ -39,8 +39,8 @@ typedef struct plm_fiber_medulla_table {
     double theta_max, eta, u_last; /* theta_o nodes as the other part's (render/fiber_table.h) */
     double phi_lo, phi_step;
     double *h_node; /* h_cells + 1 cell bounds */
-    float *data;    /* per node, rows 0..h_cells, bands 0..theta_bins-1, columns 0..phi_bins, RGB;
-                     * points into the fiber table's data */
+    float *data;    /* per node, rows 0..h_cells, each: bands 0..theta_bins-1 of columns 0..phi_bins,
+                     * then the row's total, RGB; points into the fiber table's data */
     size_t floats;
 } plm_fiber_medulla_table;
 
