@@ -298,7 +298,7 @@ static int add_output(const plm_batch *b, int job, const char *file, cJSON *file
 static int add_outputs_under(const plm_batch *b, int job, const char *folder, cJSON *files)
 {
     char dir[PLM_PATH_MAX], sub[PLM_PATH_MAX];
-    struct dirent **list;
+    struct dirent **list = NULL; /* scandir leaves it unset when it fails (no folder: a scene without feathers) */
     plm_batch_job_path(b, job, folder, dir, sizeof dir);
     int n = scandir(dir, &list, NULL, alphasort), ok = n >= 0 || errno == ENOENT;
     for (int i = 0; i < n; ++i) {
