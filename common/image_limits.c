@@ -38,8 +38,10 @@ plm_result plm_image_check_png_chunks(const char *path, plm_error *err)
     if (fread(head, 1, 8, f) == 8 && !memcmp(head, signature, 8) && fseek(f, 0, SEEK_END) == 0)
         size = ftell(f);
     plm_result rc = PLM_OK;
+    int ended = 0;
+    long long at = 8;
     /* Each chunk: 4-byte length, 4-byte type, the data, a 4-byte CRC. */
-    for (long long at = 8; size > 0 && at + 8 <= size && rc == PLM_OK;) {
+    while (size > 0 && at + 8 <= size && rc == PLM_OK && !ended) {
         if (fseek(f, (long)at, SEEK_SET) != 0 || fread(head, 1, 8, f) != 8)
             break;
         long long length = big_endian32(head);
@@ -47,11 +49,15 @@ plm_result plm_image_check_png_chunks(const char *path, plm_error *err)
             rc = plm_fail(err, PLM_ERR_PARSE,
                           "%s: corrupt PNG: the chunk at byte %lld declares %lld bytes, the file has %lld left", path,
                           at, length, size - at - 12 > 0 ? size - at - 12 : 0);
-        else if (!memcmp(head + 4, "IEND", 4))
-            break;
+        ended = !memcmp(head + 4, "IEND", 4);
         at += 12 + length;
     }
     fclose(f);
+    /* A PNG that stops before its IEND chunk makes libpng read past the end,
+     * and OpenImageIO's read callback leaks its error text when it does. */
+    if (rc == PLM_OK && size > 0 && !ended)
+        rc = plm_fail(err, PLM_ERR_PARSE, "%s: truncated PNG: the file ends at byte %lld, before its IEND chunk", path,
+                      size);
     return rc;
 }
 

@@ -226,6 +226,11 @@ static void png_chunk_longer_than_the_file_is_refused(void **state)
     assert_int_equal(plm_image_read(png, &w, &h, &c, &back, &err), PLM_ERR_PARSE);
     assert_null(back);
     assert_non_null(strstr(err.message, "corrupt PNG: the chunk at byte 33 declares 1828716564 bytes"));
+    /* Cut after the signature and one byte: no chunk is whole, and there is no IEND. */
+    assert_int_equal(truncate(png, 9), 0);
+    assert_int_equal(plm_image_read(png, &w, &h, &c, &back, &err), PLM_ERR_PARSE);
+    assert_null(back);
+    assert_non_null(strstr(err.message, "truncated PNG: the file ends at byte 9, before its IEND chunk"));
     remove(png);
 }
 
