@@ -39,6 +39,9 @@ typedef struct plm_param {
 #define PLM_PARAM_OPEN_MIN 1
 #define PLM_PARAM_OPEN_MAX 2
 
+/* A table's row count from the table itself, so a new row is never left out. */
+#define PLM_PARAM_COUNT(rows) ((int)(sizeof rows / sizeof rows[0]))
+
 typedef struct plm_param_block {
     const char *name;    /* as in messages and help: "camera", "fiber", ... */
     const char *meaning; /* one line */

@@ -49,9 +49,6 @@ void plm_species_default(plm_species *s)
 #define SHAPE_FIELD(name, member, lo, hi, unit, meaning) {name, PLM_PARAM_NUMBER, offsetof(plm_shape, member), lo, hi, unit, meaning, 0}
 #define SHAPE_ANGLE(name, member, lo, hi, meaning) {name, PLM_PARAM_ANGLE, offsetof(plm_shape, member), lo, hi, "degrees", meaning, 0}
 
-/* A table's row count from the table itself, so a new row is never left out. */
-#define PARAM_COUNT(rows) ((int)(sizeof rows / sizeof rows[0]))
-
 static const plm_param shape_params[] = {
     SHAPE_FIELD("length", length, 1.0, 2000.0, "mm", "calamus base to tip along the rachis"),
     SHAPE_FIELD("calamus_length", calamus_length, 0.0, 1000.0, "mm",
@@ -60,7 +57,7 @@ static const plm_param shape_params[] = {
                 "downy (fluffy) base: barbs leaving the rachis here are loose strands"),
 };
 const plm_param_block plm_shape_param_block = {"shape", "the feather's size (also rachis, vane, barbs, splits)",
-                                               shape_params, PARAM_COUNT(shape_params)};
+                                               shape_params, PLM_PARAM_COUNT(shape_params)};
 
 static const plm_param rachis_params[] = {
     SHAPE_FIELD("base_width", rachis_base_width, 0.01, 50.0, "mm", "rachis diameter at the base"),
@@ -70,13 +67,14 @@ static const plm_param rachis_params[] = {
     SHAPE_ANGLE("bend_out_of_plane", bend_out_of_plane, -90.0, 90.0, "total turn out of the plane; > 0 ventral"),
     SHAPE_ANGLE("twist", twist, -180.0, 180.0, "turn of the vane plane about the rachis, base to tip"),
 };
-const plm_param_block plm_rachis_param_block = {"shape.rachis", "the shaft", rachis_params, PARAM_COUNT(rachis_params)};
+const plm_param_block plm_rachis_param_block = {"shape.rachis", "the shaft", rachis_params,
+                                                PLM_PARAM_COUNT(rachis_params)};
 
 static const plm_param vane_params[] = {
     SHAPE_ANGLE("curl", curl, -60.0, 60.0, "slope of the vane at its widest point (cupping); > 0 edges ventral"),
 };
 const plm_param_block plm_vane_param_block = {"shape.vane", "the vanes (also left.width, right.width, tip)",
-                                              vane_params, PARAM_COUNT(vane_params)};
+                                              vane_params, PLM_PARAM_COUNT(vane_params)};
 
 /* shape.vane.tip's "shape" is one of these names (read beside the table). */
 static const char *const tip_shapes[] = {"rounded", "pointed", "notched", NULL};
@@ -84,7 +82,7 @@ static const plm_param tip_params[] = {
     SHAPE_FIELD("length", tip_length, 0.01, 0.9, "fraction of the vaned length", "where the closing starts"),
 };
 const plm_param_block plm_vane_tip_param_block = {"shape.vane.tip", "the vane's tip (also shape: rounded, pointed, notched)",
-                                                  tip_params, PARAM_COUNT(tip_params)};
+                                                  tip_params, PLM_PARAM_COUNT(tip_params)};
 
 /* The first two rows also serve shape.barbs.left and .right, read into
  * side 1 by offsetting the target one double (barb_angle_*[1]). */
@@ -97,7 +95,7 @@ static const plm_param barbs_params[] = {
     SHAPE_FIELD("density", barb_density, 1.0, 200.0, "per cm", "barbs per cm along the rachis, per side"),
 };
 const plm_param_block plm_barbs_param_block = {"shape.barbs", "barb angles, curvature and density (also left, right)",
-                                               barbs_params, PARAM_COUNT(barbs_params)};
+                                               barbs_params, PLM_PARAM_COUNT(barbs_params)};
 const plm_param_block plm_barb_side_param_block = {"shape.barbs.left", "one vane's own barb angles (also .right)",
                                                    barbs_params, 2};
 
@@ -112,7 +110,8 @@ static const plm_param splits_params[] = {
      "[min, max] of the drawn depths", PLM_PARAM_OPEN_MIN},
     {"gap", PLM_PARAM_NUMBER, offsetof(plm_split_draw, gap), 0.0, 20.0, "mm", "split width at the vane edge", 0},
 };
-const plm_param_block plm_splits_param_block = {"shape.splits", "gaps between barbs (also list)", splits_params, PARAM_COUNT(splits_params)};
+const plm_param_block plm_splits_param_block = {"shape.splits", "gaps between barbs (also list)", splits_params,
+                                                PLM_PARAM_COUNT(splits_params)};
 
 static const char *const sides[] = {"left", "right", NULL};
 static const plm_param split_params[] = {
@@ -123,7 +122,7 @@ static const plm_param split_params[] = {
 };
 const plm_param_block plm_split_param_block = {"shape.splits.list[]",
                                                "one split of the list (also side: left or right, alternating by default)",
-                                               split_params, PARAM_COUNT(split_params)};
+                                               split_params, PLM_PARAM_COUNT(split_params)};
 
 static const plm_param pigment_params[] = {
     {"bands", PLM_PARAM_INT, offsetof(plm_pigment, band_count), 0.0, 200.0, "",
@@ -137,7 +136,7 @@ static const plm_param pigment_params[] = {
     {"seed", PLM_PARAM_SEED, offsetof(plm_pigment, seed), 0.0, 2147483647.0, "", "per-barb values", 0},
 };
 const plm_param_block plm_pigment_param_block = {"pigment", "pigment variation: bands, tip, per-barb", pigment_params,
-                                                 PARAM_COUNT(pigment_params)};
+                                                 PLM_PARAM_COUNT(pigment_params)};
 
 void plm_split_draw_default(plm_split_draw *d)
 {

@@ -99,7 +99,7 @@ static const plm_param fiber_params[] = {
 };
 #undef FIELD
 const plm_param_block plm_fiber_param_block = {"fiber", "one fiber (barb or barbule): see docs/fiber.md",
-                                               fiber_params, (int)(sizeof fiber_params / sizeof fiber_params[0])};
+                                               fiber_params, PLM_PARAM_COUNT(fiber_params)};
 
 plm_result plm_fiber_params_validate(const plm_fiber_params *p, plm_error *err)
 {

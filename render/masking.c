@@ -46,7 +46,7 @@ static const plm_param masking_params[] = {
 #undef OPEN_BOTH
 const plm_param_block plm_masking_param_block = {
     "masking", "barb and barbule geometry for masking: see docs/masking.md", masking_params,
-    (int)(sizeof masking_params / sizeof masking_params[0])};
+    PLM_PARAM_COUNT(masking_params)};
 
 plm_result plm_masking_params_validate(const plm_masking_params *p, plm_error *err)
 {

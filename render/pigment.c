@@ -14,7 +14,7 @@ static const plm_param pigment_params[] = {
 #undef FIELD
 const plm_param_block plm_pigments_param_block = {
     "pigments", "a fiber's pigment concentrations, instead of its sigma_a (docs/species.md)", pigment_params,
-    (int)(sizeof pigment_params / sizeof pigment_params[0])};
+    PLM_PARAM_COUNT(pigment_params)};
 
 rgb plm_pigments_sigma_a(const plm_pigments *c)
 {

@@ -22,7 +22,7 @@ static const plm_param camera_params[] = {
 };
 const plm_param_block plm_camera_param_block = {
     "camera", "the camera; without a camera block the scene's bounds are framed from +z", camera_params,
-    (int)(sizeof camera_params / sizeof camera_params[0])};
+    PLM_PARAM_COUNT(camera_params)};
 
 static const plm_param film_params[] = {
     {"width", PLM_PARAM_INT, offsetof(plm_film_desc, width), 1, 16384, "pixels", "image width", 0},
@@ -38,7 +38,7 @@ static const plm_param film_params[] = {
 };
 const plm_param_block plm_film_param_block = {
     "film", "the image; also \"exr\" and \"png\": output files (working directory)", film_params,
-    (int)(sizeof film_params / sizeof film_params[0])};
+    PLM_PARAM_COUNT(film_params)};
 
 static const plm_param feather_material_params[] = {
     {"rachis_reflectance", PLM_PARAM_RGB, offsetof(plm_material, reflectance), 0.0, 1.0, "",
@@ -50,7 +50,7 @@ static const plm_param feather_material_params[] = {
 };
 const plm_param_block plm_feather_material_param_block = {
     "feather", "a feather material (a species' optics block); also barb, barbule (fiber) and masking blocks",
-    feather_material_params, (int)(sizeof feather_material_params / sizeof feather_material_params[0])};
+    feather_material_params, PLM_PARAM_COUNT(feather_material_params)};
 
 void plm_feather_material_default(plm_material *m)
 {

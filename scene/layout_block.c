@@ -25,7 +25,7 @@ static const plm_param variation_params[] = {
 };
 const plm_param_block plm_variation_param_block = {
     "variation", "per-feather variation of a layout", variation_params,
-    (int)(sizeof variation_params / sizeof variation_params[0])};
+    PLM_PARAM_COUNT(variation_params)};
 
 static const plm_param pelt_params[] = {
     {"count", PLM_PARAM_INT, offsetof(plm_pelt_params, count), 0, 1e6, "", "feathers; 0 = density x area", 0},
@@ -45,7 +45,7 @@ static const plm_param pelt_params[] = {
 };
 const plm_param_block plm_pelt_param_block = {
     "pelt", "feathers over a surface (layout type \"pelt\"); also surface, species, variation", pelt_params,
-    (int)(sizeof pelt_params / sizeof pelt_params[0])};
+    PLM_PARAM_COUNT(pelt_params)};
 
 static const plm_param ball_params[] = {
     {"count", PLM_PARAM_INT, offsetof(plm_ball_params, count), 0, 1e6, "", "feathers; 0 = 496", 0},
@@ -61,7 +61,7 @@ static const plm_param ball_params[] = {
 };
 const plm_param_block plm_ball_param_block = {
     "ball", "feathers radiating from a sphere (layout type \"ball\"); also species, variation", ball_params,
-    (int)(sizeof ball_params / sizeof ball_params[0])};
+    PLM_PARAM_COUNT(ball_params)};
 
 static const plm_param wing_params[] = {
     {"span", PLM_PARAM_NUMBER, offsetof(plm_wing_params, span), 0.0, BIG, "layout units",
@@ -80,7 +80,7 @@ static const plm_param wing_params[] = {
 };
 const plm_param_block plm_wing_param_block = {
     "wing", "a right wing (layout type \"wing\"); also rows, variation", wing_params,
-    (int)(sizeof wing_params / sizeof wing_params[0])};
+    PLM_PARAM_COUNT(wing_params)};
 
 /* The species a layout uses, loaded, with their files (for the feather cache). */
 typedef struct species_list {
