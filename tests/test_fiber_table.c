@@ -26,6 +26,22 @@
 #include "tests/fiber_table_stats.h"
 #include "test_render_stats.h"
 
+/* The options of every test here: the disk cache in cache_dir (NULL: none),
+ * no progress, the given resolution (0: the defaults) and a small medulla
+ * table (its defaults take a second or two; a fiber without a medulla has
+ * none). */
+static plm_fiber_table_options test_options(const char *cache_dir, int theta_nodes, int phi_nodes, int h_cells,
+                                            int phi_bins)
+{
+    plm_fiber_table_options o = {0};
+    o.cache_dir = cache_dir;
+    o.no_cache = cache_dir == NULL;
+    o.quiet = 1;
+    o.theta_nodes = theta_nodes, o.phi_nodes = phi_nodes, o.h_cells = h_cells, o.phi_bins = phi_bins;
+    o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512}; /* 10-degree bins */
+    return o;
+}
+
 static plm_fiber_table *get_table(const plm_fiber_params *p, const plm_fiber_table_options *o)
 {
     plm_fiber_table *t = NULL;
@@ -43,8 +59,7 @@ static void circular_fiber_matches_h_mean(void **state)
     (void)state;
     plm_fiber_params p;
     plm_fiber_params_figure7(&p, 0);
-    plm_fiber_table_options o = {0};
-    o.no_cache = 1;
+    plm_fiber_table_options o = test_options(NULL, 0, 0, 0, 0);
     plm_fiber_table *t = get_table(&p, &o);
     plm_rng rng;
     plm_rng_seed(&rng, 17, 0);
@@ -59,12 +74,6 @@ static void circular_fiber_matches_h_mean(void **state)
     plm_fiber_table_free(t);
 }
 
-/* A small medulla table for the unit tests (the defaults take a second or two). */
-static plm_fiber_medulla_resolution small_medulla(void)
-{
-    plm_fiber_medulla_resolution r = {4, 3, 12, 9, 36, 512}; /* 10-degree bins */
-    return r;
-}
 
 /* The medulla table's premise: a path traced in one go (random bounces)
  * equals, up to the medulla, plm_fiber_trace_to_medulla's lobes exactly,
@@ -136,9 +145,7 @@ static void medulla_split_matches_trace(void **state)
 static void white_furnace(void **state)
 {
     (void)state;
-    plm_fiber_table_options o = {0};
-    o.no_cache = 1;
-    o.theta_nodes = 7, o.phi_nodes = 5, o.h_cells = 32, o.phi_bins = 128;
+    plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 128);
     const double ecc[] = {1.0, 1.6};
     for (int e = 0; e < 2; ++e) {
         plm_fiber_params p;
@@ -184,11 +191,7 @@ static void white_furnace(void **state)
 static void white_furnace_medulla(void **state)
 {
     (void)state;
-    plm_fiber_table_options o = {0};
-    o.no_cache = 1;
-    o.quiet = 1;
-    o.theta_nodes = 7, o.phi_nodes = 5, o.h_cells = 32, o.phi_bins = 128;
-    o.medulla = small_medulla();
+    plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 128);
     o.medulla.theta_nodes = o.theta_nodes, o.medulla.phi_nodes = o.phi_nodes, o.medulla.h_cells = o.h_cells;
     for (int e = 0; e < 2; ++e) {
         plm_fiber_params p;
@@ -236,11 +239,7 @@ static void sampling_matches_pdf(void **state)
     (void)state;
     enum { N_TESTS = 5 };
     const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
-    plm_fiber_table_options o = {0};
-    o.no_cache = 1;
-    o.theta_nodes = 7, o.phi_nodes = 6, o.h_cells = 16, o.phi_bins = 96;
-    o.quiet = 1;
-    o.medulla = small_medulla();
+    plm_fiber_table_options o = test_options(NULL, 7, 6, 16, 96);
     plm_rng rng;
     plm_rng_seed(&rng, 8, 0);
     for (int i = 0; i < N_TESTS; ++i) {
@@ -269,11 +268,7 @@ static void sampling_matches_pdf(void **state)
 static void tabulated_is_deterministic(void **state)
 {
     (void)state;
-    plm_fiber_table_options o = {0};
-    o.no_cache = 1;
-    o.quiet = 1;
-    o.theta_nodes = 5, o.phi_nodes = 4, o.h_cells = 8, o.phi_bins = 64;
-    o.medulla = small_medulla();
+    plm_fiber_table_options o = test_options(NULL, 5, 4, 8, 64);
     plm_rng rng;
     plm_rng_seed(&rng, 21, 0);
     for (int v = 1; v < 4; ++v) {
@@ -339,16 +334,6 @@ static int files_in(const char *dir)
     return n;
 }
 
-static plm_fiber_table_options small_cached(const char *dir)
-{
-    plm_fiber_table_options o = {0};
-    o.cache_dir = dir;
-    o.quiet = 1;
-    o.theta_nodes = 5, o.phi_nodes = 4, o.h_cells = 8, o.phi_bins = 64;
-    o.medulla = small_medulla();
-    return o;
-}
-
 static void same_data(const plm_fiber_table *a, const plm_fiber_table *b)
 {
     assert_true(a->floats == b->floats);
@@ -362,7 +347,7 @@ static void cache_hits_misses_and_rebuilds(void **state)
     (void)state;
     char dir[512], path[4096];
     scratch_dir(dir, sizeof dir, "cache");
-    plm_fiber_table_options o = small_cached(dir);
+    plm_fiber_table_options o = test_options(dir, 5, 4, 8, 64);
     plm_fiber_params p;
     plm_fiber_params_figure7(&p, 1);
     plm_fiber_table *built = get_table(&p, &o), *hit = get_table(&p, &o);
@@ -412,7 +397,7 @@ static void two_processes_build_at_once(void **state)
     (void)state;
     char dir[512];
     scratch_dir(dir, sizeof dir, "race");
-    plm_fiber_table_options o = small_cached(dir);
+    plm_fiber_table_options o = test_options(dir, 5, 4, 8, 64);
     plm_fiber_params p;
     plm_fiber_params_figure7(&p, 3);
     pid_t child[2];
