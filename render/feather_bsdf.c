@@ -196,14 +196,14 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
     if (w[k] <= 0.0)
         return 0;
     double remapped = plm_clamp(u / w[k], 0.0, 0x1.fffffffffffffp-1);
-    plm_fiber_sample_rec rec;
-    if (!plm_fiber_bcsdf_sample(&f->bcsdf[k], remapped, u1, u2, &rec))
+    vec3 local;
+    if (!plm_fiber_bcsdf_sample_direction(&f->bcsdf[k], remapped, u1, u2, &local))
         return 0;
-    /* The weight and pdf of the world direction, as eval and pdf give them:
-     * fiber k's own sample record holds them for rec.wi, which the trip to
-     * world space and back moves by rounding (enough to change the density
-     * near the axis or across a table bin's edge). */
-    *wi = frame_to_world(&f->fiber_frame[k], rec.wi);
+    /* The weight and pdf of the world direction, as eval and pdf give them
+     * (the trip to world space and back moves the fiber's direction by
+     * rounding, enough to change the density near the axis or across a
+     * table bin's edge); fiber k's own weight is not needed. */
+    *wi = frame_to_world(&f->fiber_frame[k], local);
     rgb f_cos = plm_feather_eval(f, *wi, pdf);
     if (!(*pdf > 0.0))
         return 0;

@@ -649,6 +649,40 @@ rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
     return f;
 }
 
+/* A direction from the mixture of the two parts; angles receives wi's
+ * (theta_i, delta, cos(theta_i)) and *known points at it when the table
+ * part sampled wi (its lookup then needs no angles of its own). */
+static int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi, double angles[3],
+                           const double **known)
+{
+    *known = NULL;
+    if (u0 < b->pick_table) {
+        if (!table_sample(&b->tab, u0 / b->pick_table, u1, &angles[0], &angles[1], wi))
+            return 0;
+        angles[2] = sqrt(wi->x * wi->x + wi->y * wi->y);
+        *known = angles;
+        return 1;
+    }
+    double remapped = plm_clamp((u0 - b->pick_table) / (1.0 - b->pick_table), 0.0, 0x1.fffffffffffffp-1);
+    return plm_fiber_medulla_sample(&b->med, remapped, u1, u2, wi);
+}
+
+int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi)
+{
+    if (!(b->total > 0.0))
+        return 0;
+    if (!b->tab.table) {
+        plm_fiber_sample_rec rec;
+        if (!plm_fiber_sample(b->params, &b->set, u0, u1, u2, &rec))
+            return 0;
+        *wi = rec.wi;
+        return 1;
+    }
+    double angles[3];
+    const double *known;
+    return bcsdf_sample_wi(b, u0, u1, u2, wi, angles, &known);
+}
+
 int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec)
 {
     if (!(b->total > 0.0))
@@ -656,17 +690,10 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
     if (!b->tab.table)
         return plm_fiber_sample(b->params, &b->set, u0, u1, u2, rec);
     vec3 wi;
-    double angles[3], *known = NULL;
-    if (u0 < b->pick_table) {
-        if (!table_sample(&b->tab, u0 / b->pick_table, u1, &angles[0], &angles[1], &wi))
-            return 0;
-        angles[2] = sqrt(wi.x * wi.x + wi.y * wi.y);
-        known = angles;
-    } else {
-        double remapped = plm_clamp((u0 - b->pick_table) / (1.0 - b->pick_table), 0.0, 0x1.fffffffffffffp-1);
-        if (!plm_fiber_medulla_sample(&b->med, remapped, u1, u2, &wi))
-            return 0;
-    }
+    double angles[3];
+    const double *known;
+    if (!bcsdf_sample_wi(b, u0, u1, u2, &wi, angles, &known))
+        return 0;
     rec->lobe = -1;
     rgb f;
     double pdf, ct = sqrt(wi.x * wi.x + wi.y * wi.y);

@@ -150,5 +150,8 @@ double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi);
 /* Both at once: one table lookup serves the two. */
 rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf);
 int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec);
+/* The same direction alone, for callers that evaluate it themselves (the
+ * feather BSDF evaluates every fiber at it): skips the lookup of its weight. */
+int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi);
 
 #endif
