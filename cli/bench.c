@@ -38,7 +38,7 @@ double plm_bench_ns_per_call(void (*body)(void *ctx, long calls), void *ctx, lon
 }
 
 static const plm_subcommand benches[] = {
-    {"masking", bench_masking, "ns per full barb/barbule masking call over random directions"},
+    {"masking", bench_masking, "ns per masking call as the renderer makes it, and the feather BSDF's prepare"},
     {"generate", bench_generate, "one flight feather in memory: meshes + 1024x1024 textures, ms and peak memory"},
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
     {"scene", bench_scene, "scene files and pelts of 100 to 100,000 feathers: load, samples/s/thread, peak memory"},

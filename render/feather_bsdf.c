@@ -85,29 +85,13 @@ void plm_feather_masking(const plm_feather_params *p, const frame *barb, const p
     plm_masking_eval_window(&p->masking_model, frame_to_local(barb, w), window, out);
 }
 
-double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w)
-{
-    plm_masking m;
-    plm_feather_masking(p, barb, NULL, w, &m);
-    return m.w_transmission;
-}
-
-void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
-                         plm_feather_bsdf *out)
-{
-    plm_feather_prepare_masked(p, barb, wo, NULL, tint, rng, out);
-}
-
 void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
                                 rgb tint, plm_rng *rng, plm_feather_bsdf *out)
 {
     out->params = p;
     out->tint = tint;
     plm_masking *m = &out->masking;
-    if (masking)
-        *m = *masking;
-    else
-        plm_feather_masking(p, barb, NULL, wo, m);
+    *m = *masking;
     const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
     out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
     for (int k = 0; k < 2; ++k) {

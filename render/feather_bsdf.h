@@ -76,14 +76,9 @@ typedef struct plm_feather_bsdf {
  * far field. */
 void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
                          plm_masking *out);
-/* Far field: its weight of the straight-through event for a ray leaving toward w (the view side). */
-double plm_feather_transmission(const plm_feather_params *p, const frame *barb, vec3 w);
-
-/* Prepares for wo (world space): the far-field masking, then a lobe set per fiber from
- * rng (the barb's h-range chosen among the masking's ranges by their rates). */
-void plm_feather_prepare(const plm_feather_params *p, const frame *barb, vec3 wo, rgb tint, plm_rng *rng,
-                         plm_feather_bsdf *out);
-/* The same with the masking for wo already known (plm_feather_masking), or NULL. */
+/* Prepares for wo (world space) given its masking (plm_feather_masking): a
+ * BCSDF per fiber over its visible h-range (the barb's chosen among the
+ * masking's ranges by their rates with rng). */
 void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
                                 rgb tint, plm_rng *rng, plm_feather_bsdf *out);
 

@@ -418,11 +418,6 @@ void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model)
     model->barb = barb_geometry(p->barb_eccentricity, p->barbule_length, p->barbule_inclination);
 }
 
-void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo, plm_masking *out)
-{
-    plm_masking_eval_window(model, wo, NULL, out);
-}
-
 void plm_masking_eval_window(const plm_masking_model *model, vec3 wo, const plm_barb_window *window,
                              plm_masking *out)
 {
@@ -447,5 +442,5 @@ void plm_masking_eval(const plm_masking_params *p, vec3 wo, plm_masking *out)
 {
     plm_masking_model model;
     plm_masking_prepare(p, &model);
-    plm_masking_eval_prepared(&model, wo, out);
+    plm_masking_eval_window(&model, wo, NULL, out);
 }

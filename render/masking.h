@@ -71,8 +71,9 @@ typedef struct plm_masking {
  * normalised). Constant time, no allocation. */
 void plm_masking_eval(const plm_masking_params *p, vec3 wo_barb_frame, plm_masking *out);
 
-/* The same with the view-independent work (frames, trigonometry) done once
- * per parameter set, for callers that evaluate many directions (a BSDF). */
+/* The view-independent work (frames, trigonometry) done once per parameter
+ * set, for callers that evaluate many directions (a BSDF, through
+ * plm_masking_eval_window below). */
 typedef struct plm_barb_geometry {
     double w, hb, yc;      /* barb semi-axes along b and n; ridge height (cell 0's ridge is (1/2, yc)) */
     double inv_w2, inv_hb2; /* 1 / w^2, 1 / hb^2 */
@@ -86,7 +87,6 @@ typedef struct plm_masking_model {
     plm_barb_geometry barb;
 } plm_masking_model;
 void plm_masking_prepare(const plm_masking_params *p, plm_masking_model *model);
-void plm_masking_eval_prepared(const plm_masking_model *model, vec3 wo_barb_frame, plm_masking *out);
 
 /* Near field (docs/nearfield.md): where rays enter the vane's mid-plane,
  * across the barb period, as x in barb periods along b (barb j centred at

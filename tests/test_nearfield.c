@@ -87,7 +87,7 @@ static void check_random_positions(const plm_masking_params *p, vec3 wo, int n, 
     plm_masking_model model;
     plm_masking_prepare(p, &model);
     plm_masking far;
-    plm_masking_eval_prepared(&model, wo, &far);
+    plm_masking_eval_window(&model, wo, NULL, &far);
     double sum[4 + CUTS] = {0}, sum2[4 + CUTS] = {0};
     for (int i = 0; i < n; ++i) {
         plm_masking m;
@@ -145,7 +145,7 @@ static void stratified_positions_average_to_the_far_field(void **state)
         plm_masking_prepare(&p, &model);
         vec3 wo = random_view(&rng);
         plm_masking far;
-        plm_masking_eval_prepared(&model, wo, &far);
+        plm_masking_eval_window(&model, wo, NULL, &far);
         double w[4] = {0}, cdf = 0.0;
         for (int i = 0; i < n; ++i) {
             plm_masking m;
@@ -176,7 +176,7 @@ static void windows_filter_without_changing_the_mean(void **state)
         plm_masking_prepare(&p, &model);
         vec3 wo = random_view(&rng);
         plm_masking far, m;
-        plm_masking_eval_prepared(&model, wo, &far);
+        plm_masking_eval_window(&model, wo, NULL, &far);
         double width = uniform(&rng, 0.05, 0.95), mean_barb = 0.0, mean_t = 0.0;
         for (int i = 0; i < n; ++i) {
             double x = (i + 0.5) / n;
