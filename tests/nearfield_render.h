@@ -75,9 +75,11 @@ static inline void closeup_load(const char *species, int width, int height, int 
     assert_int_equal(rc, PLM_OK);
 }
 
-/* Renders the scene; the film's pixel size from the centre ray's hit
- * distance (the vane may not lie exactly at z = 0). */
-static inline void closeup_render(const plm_scene *scene, plm_film *film, double *pixel_mm)
+/* Renders the scene `count` times with seeds 1 to count (seed 1 is the
+ * scene's own) and spp / count samples each: independent replicates, whose
+ * spread gives a mean's Monte Carlo error. The pixel size from the centre
+ * ray's hit distance (the vane may not lie exactly at z = 0). */
+static inline void closeup_render(const plm_scene *scene, int count, plm_film *films, double *pixel_mm)
 {
     plm_world w;
     plm_error err = {{0}};
@@ -88,10 +90,15 @@ static inline void closeup_render(const plm_scene *scene, plm_film *film, double
     plm_hit hit;
     assert_true(plm_world_intersect(&w, o, d, INFINITY, &t, &hit));
     *pixel_mm = t * 2.0 * v3_length(w.camera.up) / w.camera.height;
-    plm_render_options opt = {0};
-    opt.threads = 2;
-    assert_int_equal(plm_render_world(&w, &opt, film, &err), PLM_OK);
-    assert_int_equal(film->nonfinite, 0);
+    assert_int_equal(scene->film.spp % count, 0);
+    for (int r = 0; r < count; ++r) {
+        plm_render_options opt = {0};
+        opt.threads = 2;
+        opt.seed = r + 1;
+        opt.spp = scene->film.spp / count;
+        assert_int_equal(plm_render_world(&w, &opt, &films[r], &err), PLM_OK);
+        assert_int_equal(films[r].nonfinite, 0);
+    }
     plm_world_free(&w);
 }
 
@@ -177,20 +184,15 @@ static inline void dominant_frequency(const float *rgb, int w, int h, double *kx
     free(l), free(re), free(im), free(p);
 }
 
-/* The mean colour of a film and the standard error of that mean from the
- * spread of the pixel values (an upper bound on the noise: any structure in
- * the image counts as spread too). */
-static inline void film_pixel_mean(const plm_film *f, double mean[3], double se[3])
+/* The mean colour of a film. */
+static inline void film_mean(const plm_film *f, double mean[3])
 {
     long n = (long)f->width * f->height;
     for (int c = 0; c < 3; ++c) {
-        double s = 0.0, s2 = 0.0;
-        for (long i = 0; i < n; ++i) {
+        double s = 0.0;
+        for (long i = 0; i < n; ++i)
             s += f->rgb[3 * i + c];
-            s2 += (double)f->rgb[3 * i + c] * f->rgb[3 * i + c];
-        }
         mean[c] = s / n;
-        se[c] = sqrt(fmax(s2 / n - mean[c] * mean[c], 0.0) / n);
     }
 }
 
@@ -206,7 +208,7 @@ static inline void closeup_check_barbs(const char *species, int size, int spp, d
         plm_scene scene;
         closeup_load(species, size, size, spp, 0.03, far, &scene);
         plm_film film;
-        closeup_render(&scene, &film, &pixel);
+        closeup_render(&scene, 1, &film, &pixel);
         double fx, fy;
         dominant_frequency(film.rgb, size, size, &fx, &fy, &peak[far]);
         if (!far)
@@ -227,37 +229,76 @@ static inline void closeup_check_barbs(const char *species, int size, int spp, d
     assert_true(peak[0] > 10.0 * peak[1]);
 }
 
+/* The zoom test's Monte Carlo error comes from replicates: each render is
+ * ZOOM_REPLICATES renders of spp / ZOOM_REPLICATES samples with seeds 1, 2,
+ * ..., and a difference of two mean colours is tested against the standard
+ * error of its mean over the replicates. The pixels' spread cannot give it:
+ * the near field's stripes would count as noise. Pairing the replicates by
+ * seed keeps the correlation of two renders with the same random numbers
+ * (near and far field at one zoom share all but the masking), so the error
+ * is that of the difference itself, not the larger one of two independent
+ * means. ZOOM_T is Student's t for ZOOM_REPLICATES - 1 = 31 degrees of
+ * freedom at a two-sided 1e-4: a tolerance that adapts to the render's
+ * noise and is never wider than the noise requires. */
+#define ZOOM_REPLICATES 32
+#define ZOOM_T 4.46
+
+/* a - b per channel, relative to b's mean: its mean over the replicates
+ * paired by seed and that mean's standard error. */
+static inline void zoom_difference(const double (*a)[3], const double (*b)[3], double d[3], double se[3])
+{
+    for (int c = 0; c < 3; ++c) {
+        double s = 0.0, s2 = 0.0, mb = 0.0;
+        for (int r = 0; r < ZOOM_REPLICATES; ++r) {
+            double x = a[r][c] - b[r][c];
+            s += x;
+            s2 += x * x;
+            mb += b[r][c] / ZOOM_REPLICATES;
+        }
+        double mean = s / ZOOM_REPLICATES;
+        double var = fmax(s2 / ZOOM_REPLICATES - mean * mean, 0.0) * ZOOM_REPLICATES / (ZOOM_REPLICATES - 1);
+        d[c] = mean / mb;
+        se[c] = sqrt(var / ZOOM_REPLICATES) / mb;
+    }
+}
+
 /* Zooms out from 0.03 mm per pixel through the transition (a pixel as wide
  * as a barb period) to the far field: at each zoom the near field's mean
- * colour equals the far field's, and every mean equals the first far-field
- * one, within rel_tol (which must exceed 4 standard errors). */
-static inline void closeup_check_zoom(const char *species, int size, int spp, const double *pixels_mm, int zooms,
-                                      double rel_tol)
+ * colour equals the far field's, and the first zoom's far field, within
+ * ZOOM_T standard errors (printed with the differences). The test must be
+ * able to see a 2% bias: ZOOM_T standard errors stay under 2%. */
+static inline void closeup_check_zoom(const char *species, int size, int spp, const double *pixels_mm, int zooms)
 {
-    double ref[3] = {0};
+    double mean[2][ZOOM_REPLICATES][3], ref[ZOOM_REPLICATES][3];
     for (int z = 0; z < zooms; ++z) {
-        double mean[2][3], se[2][3], pixel = 0.0;
+        double pixel = 0.0;
         for (int far = 0; far < 2; ++far) {
             plm_scene scene;
             closeup_load(species, size, size, spp, pixels_mm[z], far, &scene);
-            plm_film film;
-            closeup_render(&scene, &film, &pixel);
-            film_pixel_mean(&film, mean[far], se[far]);
-            plm_film_free(&film);
+            plm_film films[ZOOM_REPLICATES];
+            closeup_render(&scene, ZOOM_REPLICATES, films, &pixel);
+            for (int r = 0; r < ZOOM_REPLICATES; ++r) {
+                film_mean(&films[r], mean[far][r]);
+                plm_film_free(&films[r]);
+            }
             plm_scene_free(&scene);
         }
         if (z == 0)
             memcpy(ref, mean[1], sizeof ref);
-        printf("zoom %.3f mm/px: near (%.4f %.4f %.4f) far (%.4f %.4f %.4f), far-field standard error %.2f%%\n",
-               pixel, mean[0][0], mean[0][1], mean[0][2], mean[1][0], mean[1][1], mean[1][2],
-               100.0 * se[1][1] / mean[1][1]);
-        for (int c = 0; c < 3; ++c) {
-            /* The far field's pixels differ by noise alone (the near field's by stripes as well):
-             * its standard error stands for both, and the tolerance must be well above it. */
-            assert_true(4.0 * sqrt(2.0) * se[1][c] < rel_tol * mean[1][c]);
-            assert_double_near(mean[0][c] / mean[1][c], 1.0, rel_tol);
-            assert_double_near(mean[0][c] / ref[c], 1.0, rel_tol);
-        }
+        double d[2][3], se[2][3];
+        zoom_difference(mean[0], mean[1], d[0], se[0]);
+        zoom_difference(mean[0], ref, d[1], se[1]);
+        int comparisons = z ? 2 : 1; /* at the first zoom, the far field is the first */
+        for (int k = 0; k < comparisons; ++k)
+            printf("zoom %.3f mm/px, near field / %s - 1 (RGB): %+.3f%% %+.3f%% %+.3f%%, "
+                   "standard errors %.3f%% %.3f%% %.3f%%\n",
+                   pixel, k ? "first far field" : "far field", 100.0 * d[k][0], 100.0 * d[k][1], 100.0 * d[k][2],
+                   100.0 * se[k][0], 100.0 * se[k][1], 100.0 * se[k][2]);
+        for (int k = 0; k < comparisons; ++k)
+            for (int c = 0; c < 3; ++c) {
+                assert_true(ZOOM_T * se[k][c] < 0.02);
+                assert_double_near(d[k][c], 0.0, ZOOM_T * se[k][c]);
+            }
     }
 }
 

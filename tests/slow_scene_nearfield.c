@@ -1,7 +1,7 @@
 /* Near-field renders, larger than the default suite's
  * (test_scene_nearfield.c; docs/nearfield.md): the close-up at 256x256
- * pixels of 0.03 mm, and five zoom levels through the transition with
- * tighter tolerances. */
+ * pixels of 0.03 mm with tighter tolerances, and five zoom levels through
+ * the transition. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -21,7 +21,7 @@ static void zooming_out_keeps_the_mean_colour(void **state)
 {
     (void)state;
     const double pixels_mm[] = {0.03, 0.08, 0.15, 0.22, 0.3};
-    closeup_check_zoom(closeup_species, 48, 128, pixels_mm, 5, 0.02);
+    closeup_check_zoom(closeup_species, 48, 128, pixels_mm, 5);
 }
 
 int main(void)

@@ -22,7 +22,7 @@ static void zooming_out_keeps_the_mean_colour(void **state)
 {
     (void)state;
     const double pixels_mm[] = {0.05, 0.2, 0.3};
-    closeup_check_zoom(closeup_species, 32, 64, pixels_mm, 3, 0.04);
+    closeup_check_zoom(closeup_species, 32, 256, pixels_mm, 3);
 }
 
 int main(void)
