@@ -633,7 +633,7 @@ static plm_result add_named_feather(loader *ld, const char *name, const plm_feat
 /* {"species": file or the species itself, "level", "texture_size", "variant"}:
  * generated once per distinct (species, level, texture size, variant), however many names ask. */
 static plm_result read_species_feather(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path,
-                               const char *name)
+                                      const char *name)
 {
     static const char *const keys[] = {"species", "level", "texture_size", "variant", NULL};
     char species_file[PLM_PATH_MAX], inline_path[PLM_SPECIES_PATH_MAX];
