@@ -1,5 +1,5 @@
 # Finds plumage's dependencies as Debian 12 ships them. Three of the shipped
-# CMake configs are broken (see the README's "Building" section); these
+# CMake configs are broken (see docs/building.md); these
 # are the workarounds.
 find_package(PkgConfig REQUIRED)
 
