@@ -1,5 +1,5 @@
 /* plumage bench fiber: single-thread nanoseconds per fiber BCSDF query for
- * the paper's four Fig. 7 fibers, with each estimator (docs/fiber.md). A
+ * the paper's four Fig. 7 fibers and the default feather's barb, with each estimator (docs/fiber.md). A
  * shading query prepares the BCSDF for wo (the stochastic one traces a lobe
  * set) and then evaluates or samples it, so the headline figures are
  * prepare + eval and prepare + sample; the parts are timed too. Also each
@@ -10,6 +10,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "render/feather_bsdf.h"
 #include "render/fiber_table.h"
 
 /* Powers of two, cycled with a mask. Queries are many so branches cannot be
@@ -108,7 +109,8 @@ int bench_fiber(int argc, char **argv)
     };
     const plm_command_help help = {
         "plumage bench fiber [options]",
-        "Single-thread nanoseconds per fiber BCSDF call for the four Fig. 7 fibers and both estimators\n"
+        "Single-thread nanoseconds per fiber BCSDF call for the four Fig. 7 fibers, the default feather's\n"
+        "barb (a concentric medulla in a circular cortex) and both estimators\n"
         "(stochastic, tabulated; docs/fiber.md), over random view and light directions (uniform on the\n"
         "sphere) and h in [-1, 1]: prepare + eval and prepare + sample (what a shading query costs), and\n"
         "prepare, eval and sample alone. Median of --runs runs. Then each table's build time on all cores\n"
@@ -118,8 +120,16 @@ int bench_fiber(int argc, char **argv)
         return rc == 1 ? 0 : 2;
     static fiber_bench b;
     printf("fiber,bcsdf,lobes,prepare_eval_ns,prepare_sample_ns,prepare_ns,eval_ns,sample_ns,build_s,table_mib\n");
-    for (int v = 0; v < PLM_FIBER_FIGURE7_VARIANTS; ++v) {
-        plm_fiber_params_figure7(&b.params, v);
+    for (int v = 0; v <= PLM_FIBER_FIGURE7_VARIANTS; ++v) { /* the last: the default barb */
+        const char *name = "default_barb";
+        if (v < PLM_FIBER_FIGURE7_VARIANTS) {
+            plm_fiber_params_figure7(&b.params, v);
+            name = plm_fiber_figure7_names[v];
+        } else {
+            plm_feather_params feather;
+            plm_feather_params_default(&feather);
+            b.params = feather.barb;
+        }
         b.params.lobes = lobes;
         plm_fiber_table *table = NULL;
         plm_fiber_table_options build = {0};
@@ -146,7 +156,7 @@ int bench_fiber(int argc, char **argv)
             double t_p = plm_bench_ns_per_call(bench_prepare, &b, calls, runs);
             double t_e = plm_bench_ns_per_call(bench_eval, &b, calls, runs);
             double t_s = plm_bench_ns_per_call(bench_sample, &b, calls, runs);
-            printf("%s,%s,%d,%.1f,%.1f,%.1f,%.1f,%.1f", plm_fiber_figure7_names[v],
+            printf("%s,%s,%d,%.1f,%.1f,%.1f,%.1f,%.1f", name,
                    tabulated ? "tabulated" : "stochastic", lobes, t_pe, t_ps, t_p, t_e, t_s);
             if (tabulated && !table->from_cache)
                 printf(",%.2f,%.1f\n", table->build_seconds, plm_fiber_table_bytes(table) / 1048576.0);
