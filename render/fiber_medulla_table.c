@@ -30,11 +30,19 @@ enum { POINTS = 96, PHI_REFINE = 2, MAX_CLASSES = 4 };
 
 /* ---- layout -------------------------------------------------------------- */
 
-/* A row: each band's columns, then the row's total over all bands (what a
- * prepare reads for each node's energy). */
-static size_t total_offset(const plm_fiber_medulla_table *m)
+/* A row: each band's columns, then each band's total (its last column
+ * again), which sampling reads in two cache lines, then the row's total
+ * (what a prepare reads); RGB. (A mean channel with R and G, as the other
+ * part stores, would cost blue its precision where it is much weaker than
+ * red, as for the default barb, through the differences of cumulative
+ * rows.) */
+static size_t band_offset(const plm_fiber_medulla_table *m)
 {
     return 3 * (size_t)m->res.theta_bins * (size_t)(m->res.phi_bins + 1);
+}
+static size_t total_offset(const plm_fiber_medulla_table *m)
+{
+    return band_offset(m) + 3 * (size_t)m->res.theta_bins;
 }
 static size_t row_floats(const plm_fiber_medulla_table *m) { return total_offset(m) + 3; }
 static size_t node_floats(const plm_fiber_medulla_table *m) { return (size_t)(m->res.h_cells + 1) * row_floats(m); }
@@ -55,6 +63,7 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
     m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
     m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d.theta_bins;
+    m->res.theta_bins = m->res.theta_bins > PLM_FIBER_MEDULLA_MAX_BANDS ? PLM_FIBER_MEDULLA_MAX_BANDS : m->res.theta_bins;
     m->res.phi_bins = r && r->phi_bins > 0 ? r->phi_bins : d.phi_bins;
     m->res.directions = r && r->directions > 0 ? r->directions : d.directions;
     size_t node_bytes = sizeof(float) * node_floats(m);
@@ -304,90 +313,124 @@ static int symmetrize(build_ctx *b, int symmetry)
     return 1;
 }
 
-/* One view node: per h cell, the light reaching each medulla point (split
- * linearly between the two nearest tabulated points) by the midpoint rule in
- * asin(h), then those points' emission resampled at the node's columns,
- * summed into cumulative rows. */
-static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *lobes)
+/* Where the centre of each of the node's columns falls among the emission's
+ * bins (origin: the columns' azimuth at the view's phi_o): between bins
+ * e0[c] and e1[c], at fraction ef[c]. */
+static void map_columns(const build_ctx *b, double origin, int *e0, int *e1, double *ef)
 {
-    const plm_fiber_params *p = b->p;
-    const plm_fiber_medulla_table *m = b->m;
-    const emission *e = &b->e;
-    int bands = m->res.theta_bins, cols = m->res.phi_bins, cells = m->res.h_cells;
-    int it = node / m->res.phi_nodes, ip = node % m->res.phi_nodes;
-    double theta_o = plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, it);
-    double phi_o = m->phi_lo + ip * m->phi_step, w = PLM_TWO_PI / cols, we = PLM_TWO_PI / e->bins;
-    vec3 wo = plm_fiber_direction(theta_o, phi_o);
-    size_t weights = 3 * (size_t)POINTS * (size_t)e->classes;
-    double *reach = scratch, *cell = reach + weights, *row = cell + 3 * (size_t)bands * cols;
-    double *ef = row + 3 * (size_t)bands * (cols + 1);
-    int *e0 = (int *)(ef + cols), *e1 = e0 + cols;
-    /* Column c's centre in the emission's bins (-pi + ... + pi cancel). */
-    double origin = m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? phi_o : 0.0;
+    int cols = b->m->res.phi_bins, bins = b->e.bins;
+    double w = PLM_TWO_PI / cols, we = PLM_TWO_PI / bins;
     for (int c = 0; c < cols; ++c) {
-        double x = (origin + (c + 0.5) * w) / we - 0.5;
+        double x = (origin + (c + 0.5) * w) / we - 0.5; /* -pi + ... + pi cancel */
         double fl = floor(x);
-        e0[c] = (int)(fl - e->bins * floor(fl / e->bins));
-        e1[c] = (e0[c] + 1) % e->bins;
+        e0[c] = (int)(fl - bins * floor(fl / bins));
+        e1[c] = (e0[c] + 1) % bins;
         ef[c] = x - fl;
     }
+}
+
+/* The light reaching each medulla point from h cell j seen from wo, per lobe
+ * class (RGB; split linearly between the two nearest tabulated points), by
+ * the midpoint rule in asin(h) with `sub` samples. */
+static void cell_reach(const build_ctx *b, vec3 wo, int j, int sub, double *reach, plm_fiber_lobe *lobes)
+{
+    const plm_fiber_params *p = b->p;
+    memset(reach, 0, sizeof(double) * 3 * POINTS * (size_t)b->e.classes);
+    double g0 = asin(b->m->h_node[j]), g1 = asin(b->m->h_node[j + 1]), dg = (g1 - g0) / sub;
+    for (int s = 0; s < sub; ++s) {
+        double g = g0 + (s + 0.5) * dg;
+        plm_fiber_medulla_hit hit;
+        if (!plm_fiber_trace_to_medulla(p, wo, sin(g), lobes, &hit))
+            continue;
+        double x = hit.t / PLM_TWO_PI * POINTS, fl = floor(x), f = x - fl;
+        int k0 = (int)(fl - POINTS * floor(fl / POINTS)), k1 = (k0 + 1) % POINTS;
+        int cls = class_of(p->lobes - hit.lobes, b->e.classes);
+        rgb T = rgb_scale(hit.throughput, cos(g) * dg);
+        double *r0 = reach + 3 * ((size_t)cls * POINTS + k0), *r1 = reach + 3 * ((size_t)cls * POINTS + k1);
+        r0[0] += (1 - f) * T.r, r0[1] += (1 - f) * T.g, r0[2] += (1 - f) * T.b;
+        r1[0] += f * T.r, r1[1] += f * T.g, r1[2] += f * T.b;
+    }
+}
+
+/* A cell's bin masses (RGB, band-major): each point's emission, weighted by
+ * the light reaching it, resampled at the node's columns (linear between
+ * emission bins, scaled from their width to a column's). */
+static void cell_masses(const build_ctx *b, const double *reach, const int *e0, const int *e1, const double *ef,
+                        double *cell)
+{
+    const emission *e = &b->e;
+    int bands = b->m->res.theta_bins, cols = b->m->res.phi_bins;
+    double scale = (double)e->bins / cols;
+    memset(cell, 0, sizeof(double) * 3 * (size_t)bands * cols);
+    for (int cls = 0; cls < e->classes; ++cls)
+        for (int k = 0; k < POINTS; ++k) {
+            const double *T = reach + 3 * ((size_t)cls * POINTS + k);
+            if (T[0] == 0.0 && T[1] == 0.0 && T[2] == 0.0)
+                continue;
+            const float *em = emission_at(e, k, cls);
+            for (int a = 0; a < bands; ++a) {
+                const float *ea = em + 3 * (size_t)a * e->bins;
+                double *ca = cell + 3 * (size_t)a * cols;
+                for (int c = 0; c < cols; ++c) {
+                    const float *v0 = ea + 3 * e0[c], *v1 = ea + 3 * e1[c];
+                    double f1 = ef[c] * scale, f0 = scale - f1;
+                    for (int ch = 0; ch < 3; ++ch)
+                        ca[3 * c + ch] += T[ch] * (f0 * v0[ch] + f1 * v1[ch]);
+                }
+            }
+        }
+}
+
+/* The next cumulative row: S(j + 1, a, c) = S(j, a, c) + the cell's mass of
+ * band a below column c, kept in `row` (RGB, double) and stored into dst in
+ * the table's layout. */
+static void store_row(const plm_fiber_medulla_table *m, const double *cell, double *row, float *dst)
+{
+    int bands = m->res.theta_bins, cols = m->res.phi_bins;
+    for (int a = 0; a < bands; ++a) {
+        double below[3] = {0.0, 0.0, 0.0};
+        for (int c = 0; c <= cols; ++c) {
+            size_t o = 3 * ((size_t)a * (cols + 1) + c);
+            for (int ch = 0; ch < 3; ++ch)
+                row[o + ch] += below[ch];
+            for (int ch = 0; ch < 3; ++ch)
+                dst[o + ch] = (float)row[o + ch];
+            for (int ch = 0; c < cols && ch < 3; ++ch)
+                below[ch] += cell[3 * ((size_t)a * cols + c) + ch];
+        }
+        memcpy(dst + band_offset(m) + 3 * a, dst + 3 * ((size_t)a * (cols + 1) + cols), 3 * sizeof(float));
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+        double total = 0.0;
+        for (int a = 0; a < bands; ++a)
+            total += row[3 * ((size_t)a * (cols + 1) + cols) + ch];
+        dst[total_offset(m) + ch] = (float)total;
+    }
+}
+
+/* One view node: per h cell, the light reaching each medulla point, then
+ * those points' emission resampled at the node's columns, summed into
+ * cumulative rows (row 0 is all zeros). */
+static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *lobes)
+{
+    const plm_fiber_medulla_table *m = b->m;
+    int bands = m->res.theta_bins, cols = m->res.phi_bins;
+    int it = node / m->res.phi_nodes, ip = node % m->res.phi_nodes;
+    double theta_o = plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, it);
+    double phi_o = m->phi_lo + ip * m->phi_step;
+    double *reach = scratch + 0, *cell = reach + 3 * (size_t)POINTS * (size_t)b->e.classes;
+    double *row = cell + 3 * (size_t)bands * cols, *ef = row + 3 * (size_t)bands * (cols + 1);
+    int *e0 = (int *)(ef + cols), *e1 = e0 + cols;
+    map_columns(b, m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? phi_o : 0.0, e0, e1, ef);
     float *out = m->data + node_floats(m) * (size_t)node;
     memset(row, 0, sizeof(double) * 3 * (size_t)bands * (cols + 1));
     for (size_t x = 0; x < row_floats(m); ++x)
         out[x] = 0.0f;
-    double scale = w / we; /* emission bin mass to this column's, through the density */
-    int sub = plm_fiber_h_sub_samples(p->beta_n, cells);
-    for (int j = 0; j < cells; ++j) {
-        memset(reach, 0, sizeof(double) * weights);
-        double g0 = asin(m->h_node[j]), g1 = asin(m->h_node[j + 1]), dg = (g1 - g0) / sub;
-        for (int s = 0; s < sub; ++s) {
-            double g = g0 + (s + 0.5) * dg;
-            plm_fiber_medulla_hit hit;
-            if (!plm_fiber_trace_to_medulla(p, wo, sin(g), lobes, &hit))
-                continue;
-            double x = hit.t / PLM_TWO_PI * POINTS, fl = floor(x), f = x - fl;
-            int k0 = (int)(fl - POINTS * floor(fl / POINTS)), k1 = (k0 + 1) % POINTS;
-            int cls = class_of(p->lobes - hit.lobes, e->classes);
-            rgb T = rgb_scale(hit.throughput, cos(g) * dg);
-            double *r0 = reach + 3 * ((size_t)cls * POINTS + k0), *r1 = reach + 3 * ((size_t)cls * POINTS + k1);
-            r0[0] += (1 - f) * T.r, r0[1] += (1 - f) * T.g, r0[2] += (1 - f) * T.b;
-            r1[0] += f * T.r, r1[1] += f * T.g, r1[2] += f * T.b;
-        }
-        memset(cell, 0, sizeof(double) * 3 * (size_t)bands * cols);
-        for (int cls = 0; cls < e->classes; ++cls)
-            for (int k = 0; k < POINTS; ++k) {
-                const double *T = reach + 3 * ((size_t)cls * POINTS + k);
-                if (T[0] == 0.0 && T[1] == 0.0 && T[2] == 0.0)
-                    continue;
-                const float *em = emission_at(e, k, cls);
-                for (int a = 0; a < bands; ++a) {
-                    const float *ea = em + 3 * (size_t)a * e->bins;
-                    double *ca = cell + 3 * (size_t)a * cols;
-                    for (int c = 0; c < cols; ++c) {
-                        const float *v0 = ea + 3 * e0[c], *v1 = ea + 3 * e1[c];
-                        double f1 = ef[c] * scale, f0 = scale - f1;
-                        for (int ch = 0; ch < 3; ++ch)
-                            ca[3 * c + ch] += T[ch] * (f0 * v0[ch] + f1 * v1[ch]);
-                    }
-                }
-            }
-        /* S(j + 1, a, c) = S(j, a, c) + the cell's mass of band a below column c. */
-        float *dst = out + row_floats(m) * (size_t)(j + 1);
-        for (int ch = 0; ch < 3; ++ch) {
-            double total = 0.0;
-            for (int a = 0; a < bands; ++a) {
-                double below = 0.0;
-                for (int c = 0; c <= cols; ++c) {
-                    size_t o = 3 * ((size_t)a * (cols + 1) + c) + ch;
-                    row[o] += below;
-                    dst[o] = (float)row[o];
-                    if (c < cols)
-                        below += cell[3 * ((size_t)a * cols + c) + ch];
-                }
-                total += row[3 * ((size_t)a * (cols + 1) + cols) + ch];
-            }
-            dst[total_offset(m) + ch] = (float)total;
-        }
+    int sub = plm_fiber_h_sub_samples(b->p->beta_n, m->res.h_cells);
+    for (int j = 0; j < m->res.h_cells; ++j) {
+        cell_reach(b, plm_fiber_direction(theta_o, phi_o), j, sub, reach, lobes);
+        cell_masses(b, reach, e0, e1, ef, cell);
+        store_row(m, cell, row, out + row_floats(m) * (size_t)(j + 1));
     }
 }
 
@@ -430,164 +473,175 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
 
 /* ---- queries ------------------------------------------------------------- */
 
+/* Sums over a query's terms are taken per channel and in the terms' order
+ * everywhere (a column's masses, a band's total), and a column's mean
+ * channel is the sum of those three sums: so the pdf's bin masses are
+ * exactly the differences the sampler's cumulative search sees, and a
+ * band's mass exactly the end of its cumulative row. */
+
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
-void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, vec3 wo, double hmin, double hmax,
+static double positive(double x) { return x > 0.0 ? x : 0.0; }
+
+void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
                                plm_fiber_medulla_query *q)
 {
     q->table = NULL;
-    q->total = 0.0;
-    double ct = sqrt(wo.x * wo.x + wo.y * wo.y);
-    if (m->res.theta_nodes == 0 || !(ct > 1e-12) || !(hmin <= hmax))
+    q->total = q->sum = 0.0;
+    if (m->res.theta_nodes == 0)
         return;
     q->table = m;
-    double theta_o = atan2(wo.z, ct);
-    q->phi_o = atan2(wo.y, wo.x);
-    double phi = plm_fiber_fold_phi(m->symmetry, q->phi_o, &q->flip);
-    q->origin = m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? 0.0 : phi;
-    if (q->flip) {
-        double lo = -hmax;
-        hmax = -hmin;
-        hmin = lo;
-    }
-    /* Bilinear weights over (|theta_o|, phi_o), on the other part's theta_o nodes' spacing. */
-    int n = m->res.theta_nodes, ip[2];
-    double len = hypot(ct, wo.z), fp;
-    double ft = fabs(theta_o) < m->theta_max ? plm_fiber_theta_coordinate(m->eta, m->u_last, m->theta_max, n,
-                                                                          fabs(theta_o), fabs(wo.z) / len, ct / len)
-                                             : n - 1.0;
-    int it = (int)ft < n - 1 ? (int)ft : n - 2;
-    ft -= it;
-    plm_fiber_phi_weights(m->symmetry, m->res.phi_nodes, m->phi_lo, m->phi_step, phi, ip, &fp);
-    int nodes[4] = {it * m->res.phi_nodes + ip[0], it * m->res.phi_nodes + ip[1], (it + 1) * m->res.phi_nodes + ip[0],
-                    (it + 1) * m->res.phi_nodes + ip[1]};
-    q->weight[0] = (1 - ft) * (1 - fp), q->weight[1] = (1 - ft) * fp;
-    q->weight[2] = ft * (1 - fp), q->weight[3] = ft * fp;
+    q->phi_o = v->phi_o;
+    q->flip = v->flip;
+    q->origin = m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? 0.0 : v->phi;
+    int n = m->res.theta_nodes, nodes[4];
+    double w[4], ft = fabs(v->theta_o) < m->theta_max ? plm_fiber_theta_coordinate(m->eta, m->u_last, m->theta_max, n,
+                                                                                   fabs(v->theta_o), v->sin_theta,
+                                                                                   v->cos_theta)
+                                                      : n - 1.0;
+    plm_fiber_corners(m->symmetry, n, m->res.phi_nodes, m->phi_lo, m->phi_step, ft, v->phi, nodes, w);
     plm_fiber_h_rows rows;
-    plm_fiber_interval_rows(m->h_node, m->res.h_cells, plm_clamp(hmin, -1.0, 1.0), plm_clamp(hmax, -1.0, 1.0), &rows);
-    q->rows = rows.n;
-    for (int r = 0; r < q->rows; ++r) {
-        q->row[r] = row_floats(m) * (size_t)rows.row[r];
-        q->row_coef[r] = rows.coef[r];
-    }
-    for (int c = 0; c < 4; ++c) {
-        q->corner[c] = m->data + node_floats(m) * (size_t)nodes[c];
-        double total = 0.0;
-        for (int r = 0; r < q->rows; ++r) {
-            const float *v = q->corner[c] + q->row[r] + total_offset(m);
-            total += q->row_coef[r] * (v[0] + v[1] + v[2]) / 3.0;
-        }
-        q->corner_total[c] = fmax(0.0, total);
-        q->total += q->weight[c] * q->corner_total[c];
-    }
+    plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, &rows);
+    q->terms = plm_fiber_terms(m->data, node_floats(m), row_floats(m), nodes, w, &rows, q->term, q->coef);
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < q->terms; ++k)
+        for (int ch = 0; ch < 3; ++ch)
+            sum[ch] += q->coef[k] * q->term[k][total_offset(m) + ch];
+    q->sum = positive(sum[0] + sum[1] + sum[2]);
+    q->total = q->sum / 3.0;
 }
 
-/* Corner c's combined rows at band a, column col, RGB. */
-static rgb column(const plm_fiber_medulla_query *q, int c, int a, int col)
+/* Column col of band a: its offset in a row, and the sum of its RGB over
+ * the terms (the sampler's cumulative row). */
+static size_t column_offset(const plm_fiber_medulla_query *q, int a, int col)
 {
-    const float *base = q->corner[c] + 3 * ((size_t)a * (q->table->res.phi_bins + 1) + col);
+    return 3 * ((size_t)a * (q->table->res.phi_bins + 1) + col);
+}
+
+static double column_sum(const plm_fiber_medulla_query *q, int a, int col)
+{
+    size_t o = column_offset(q, a, col);
     double r = 0.0, g = 0.0, b = 0.0;
-    for (int i = 0; i < q->rows; ++i) {
-        const float *v = base + q->row[i];
-        r += q->row_coef[i] * v[0];
-        g += q->row_coef[i] * v[1];
-        b += q->row_coef[i] * v[2];
+    for (int k = 0; k < q->terms; ++k) {
+        const float *v = q->term[k] + o;
+        r += q->coef[k] * v[0];
+        g += q->coef[k] * v[1];
+        b += q->coef[k] * v[2];
     }
-    return rgb_make(r, g, b);
+    return r + g + b;
 }
 
-/* Bin (a, col) of corner c (col wraps). */
-static rgb bin_mass(const plm_fiber_medulla_query *q, int c, int a, int col)
+/* The sums of columns c0, c0 + 1 (bin c0) and c1, c1 + 1 (bin c1; c1 =
+ * c0 + 1, or 0 after the last bin) of bands a and a + 1, RGB:
+ * col[band][column][channel], the terms read once. */
+static void bin_columns(const plm_fiber_medulla_query *q, int a, int c0, int c1, double col[2][4][3])
 {
-    return rgb_sub(column(q, c, a, col + 1), column(q, c, a, col));
+    int wraps = c1 != c0 + 1, n = wraps ? 6 : 9;
+    size_t o[2] = {column_offset(q, a, c0), column_offset(q, a + 1, c0)};
+    size_t o1[2] = {column_offset(q, a, 0), column_offset(q, a + 1, 0)};
+    memset(col, 0, sizeof(double) * 2 * 4 * 3);
+    for (int k = 0; k < q->terms; ++k)
+        for (int s = 0; s < 2; ++s) {
+            const float *v = q->term[k] + o[s], *v1 = q->term[k] + o1[s];
+            double *c = &col[s][0][0];
+            for (int i = 0; i < n; ++i)
+                c[i] += q->coef[k] * v[i];
+            for (int i = 0; wraps && i < 6; ++i)
+                c[6 + i] += q->coef[k] * v1[i];
+        }
+    if (!wraps) /* columns c1, c1 + 1 are c0 + 1, c0 + 2 */
+        for (int s = 0; s < 2; ++s) {
+            memcpy(col[s][3], col[s][2], sizeof col[s][3]);
+            memcpy(col[s][2], col[s][1], sizeof col[s][2]);
+        }
 }
 
-void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, vec3 wi, rgb *f, double *pdf)
+void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf)
 {
     if (f)
         *f = rgb_gray(0.0);
     *pdf = 0.0;
-    double ct = sqrt(wi.x * wi.x + wi.y * wi.y);
-    if (!q->table || !(q->total > 0.0) || !(ct > 1e-12))
+    if (!q->table || !(q->sum > 0.0))
         return;
     const plm_fiber_medulla_table *m = q->table;
     int bands = m->res.theta_bins, cols = m->res.phi_bins;
-    double wa = HALF_PI / bands, wc = PLM_TWO_PI / cols;
-    double d = wrap_pi(atan2(wi.y, wi.x) - q->phi_o), delta = wrap_pi(q->origin + (q->flip ? -d : d));
-    double theta = fabs(atan2(wi.z, ct));
+    double wa = HALF_PI / bands, wc = PLM_TWO_PI / cols, theta = fabs(angles[0]), ct = angles[2];
+    double phi = wrap_pi(q->origin + angles[1]);
     /* Bin centres around wi: below band 0's centre the density is flat (the
      * mirror image of band 0 is itself); beyond the last band's it is
      * extrapolated linearly, as the density falls toward the poles, where
-     * eval's 1 / cos^2 magnifies it; columns wrap. */
-    double xa = theta / wa - 0.5, xc = (delta + PLM_PI) / wc - 0.5, flc = floor(xc);
+     * eval's 1 / cos^2 magnifies it; columns wrap. The bin holding wi, the
+     * pdf's, is one of the four. */
+    double xa = theta / wa - 0.5, xc = (phi + PLM_PI) / wc - 0.5, flc = floor(xc);
     int a0 = xa < 0.0 ? 0 : (int)xa, c0 = ((int)flc + cols) % cols, c1 = (c0 + 1) % cols;
     a0 = a0 > bands - 2 ? bands - 2 : a0;
-    int a1 = a0 + 1, in_a = (int)plm_clamp(floor(theta / wa), 0.0, bands - 1.0); /* the band holding wi */
-    double fa = xa < 0.0 ? 0.0 : xa - a0, fc = xc - flc;
-    int in_c = fc >= 0.5 ? c1 : c0;
-    rgb sum = rgb_gray(0.0);
-    double mass = 0.0;
-    for (int c = 0; c < 4; ++c) {
-        if (!(q->weight[c] > 0.0))
-            continue;
-        if (f) {
-            rgb m00 = bin_mass(q, c, a0, c0), m01 = bin_mass(q, c, a0, c1);
-            rgb m10 = bin_mass(q, c, a1, c0), m11 = bin_mass(q, c, a1, c1);
-            rgb lo = rgb_add(rgb_scale(m00, 1.0 - fc), rgb_scale(m01, fc));
-            rgb hi = rgb_add(rgb_scale(m10, 1.0 - fc), rgb_scale(m11, fc));
-            sum = rgb_add(sum, rgb_scale(rgb_add(rgb_scale(lo, 1.0 - fa), rgb_scale(hi, fa)), q->weight[c]));
-        }
-        mass += q->weight[c] * fmax(0.0, rgb_mean(bin_mass(q, c, in_a, in_c)));
-    }
-    double area = 2.0 * wa * wc; /* a band holds both signs of theta_i */
+    int in_a = (int)plm_clamp(floor(theta / wa), 0.0, bands - 1.0), in_c = xc - flc >= 0.5;
+    double fa = xa < 0.0 ? 0.0 : xa - a0, fc = xc - flc, area = 2.0 * wa * wc; /* a band holds both signs */
+    double mass;
     if (f) {
-        double s = 1.0 / (area * ct * ct);
-        *f = rgb_make(fmax(0.0, sum.r * s), fmax(0.0, sum.g * s), fmax(0.0, sum.b * s));
+        double col[2][4][3], v[3];
+        bin_columns(q, a0, c0, c1, col);
+        for (int ch = 0; ch < 3; ++ch) {
+            double lo0 = col[0][1][ch] - col[0][0][ch], lo1 = col[0][3][ch] - col[0][2][ch];
+            double hi0 = col[1][1][ch] - col[1][0][ch], hi1 = col[1][3][ch] - col[1][2][ch];
+            v[ch] = positive(((lo0 + (lo1 - lo0) * fc) * (1.0 - fa) + (hi0 + (hi1 - hi0) * fc) * fa) / (area * ct * ct));
+        }
+        *f = rgb_make(v[0], v[1], v[2]);
+        const double(*x)[3] = col[in_a - a0] + 2 * in_c;
+        mass = (x[1][0] + x[1][1] + x[1][2]) - (x[0][0] + x[0][1] + x[0][2]);
+    } else {
+        int bin = in_c ? c1 : c0;
+        mass = column_sum(q, in_a, bin + 1) - column_sum(q, in_a, bin);
     }
-    *pdf = mass / (q->total * area * ct);
+    /* The sampler never picks a bin of no mass (or less, by rounding). */
+    *pdf = positive(mass) / (q->sum * area * ct);
 }
 
-int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, vec3 *wi)
+int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
+                             vec3 *wi)
 {
-    if (!q->table || !(q->total > 0.0))
+    if (!q->table || !(q->sum > 0.0))
         return 0;
     const plm_fiber_medulla_table *m = q->table;
-    int bands = m->res.theta_bins, cols = m->res.phi_bins;
-    double u = u0 * q->total;
-    int c = 0;
-    while (c < 3 && (u >= q->weight[c] * q->corner_total[c] || q->weight[c] * q->corner_total[c] <= 0.0)) {
-        u -= q->weight[c] * q->corner_total[c];
-        ++c;
+    int bands = m->res.theta_bins, cols = m->res.phi_bins, a = 0;
+    /* The bands' masses from the rows' band totals: band a is picked with
+     * probability mass / q->sum (the last takes what rounding leaves). */
+    double sums[3 * PLM_FIBER_MEDULLA_MAX_BANDS] = {0.0}, mass = 0.0, target = u0 * q->sum;
+    for (int k = 0; k < q->terms; ++k) {
+        const float *v = q->term[k] + band_offset(m);
+        for (int i = 0; i < 3 * bands; ++i)
+            sums[i] += q->coef[k] * v[i];
     }
-    if (!(q->weight[c] * q->corner_total[c] > 0.0))
-        return 0;
-    /* The band, by its mass: u1 picks it, the rest of u1 the sign and the position in it. */
-    double target = u1 * q->corner_total[c], band_mass = 0.0;
-    int a = 0;
     for (; a < bands; ++a) {
-        band_mass = fmax(0.0, rgb_mean(column(q, c, a, cols)));
-        if (target < band_mass || a == bands - 1)
+        mass = sums[3 * a] + sums[3 * a + 1] + sums[3 * a + 2];
+        if (target < mass || a == bands - 1)
             break;
-        target -= band_mass;
+        target -= positive(mass);
     }
-    if (!(band_mass > 0.0))
+    if (!(mass > 0.0))
         return 0;
-    double v = plm_clamp(target / band_mass, 0.0, 1.0) * 2.0, sign = v < 1.0 ? -1.0 : 1.0;
-    double theta = sign * (a + (v < 1.0 ? v : v - 1.0)) * (HALF_PI / bands);
-    /* The column by the band's cumulative row. */
-    double goal = u2 * band_mass;
+    /* The column by the band's cumulative row, which ends at the band's mass. */
+    double goal = u2 * mass, x0 = 0.0, x1 = mass;
     int lo = 0, hi = cols; /* column lo <= goal < column hi */
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        if (rgb_mean(column(q, c, a, mid)) <= goal)
-            lo = mid;
+        double x = column_sum(q, a, mid);
+        if (x <= goal)
+            lo = mid, x0 = x;
         else
-            hi = mid;
+            hi = mid, x1 = x;
     }
-    double x0 = rgb_mean(column(q, c, a, lo)), x1 = rgb_mean(column(q, c, a, lo + 1));
     if (!(x1 > x0))
         return 0;
-    double delta = -PLM_PI + (lo + plm_clamp((goal - x0) / (x1 - x0), 0.0, 1.0)) * (PLM_TWO_PI / cols) - q->origin;
+    /* Kept off the bins' edges by far more than rounding moves an angle, so
+     * that the lookup at these angles finds this bin (pdf = the sampler's). */
+    double v = u1 < 0.5 ? 2.0 * u1 : 2.0 * u1 - 1.0, edge = 1e-9;
+    double theta = (u1 < 0.5 ? -1.0 : 1.0) * (a + plm_clamp(v, edge, 1.0 - edge)) * (HALF_PI / bands);
+    double frac = plm_clamp((goal - x0) / (x1 - x0), edge, 1.0 - edge);
+    double delta = wrap_pi(-PLM_PI + (lo + frac) * (PLM_TWO_PI / cols) - q->origin);
+    angles[0] = theta;
+    angles[1] = delta;
+    angles[2] = cos(theta);
     *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
     return 1;
 }

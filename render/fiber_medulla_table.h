@@ -40,9 +40,12 @@ typedef struct plm_fiber_medulla_table {
     double phi_lo, phi_step;
     double *h_node; /* h_cells + 1 cell bounds */
     float *data;    /* per node, rows 0..h_cells, each: bands 0..theta_bins-1 of columns 0..phi_bins,
-                     * then the row's total, RGB; points into the fiber table's data */
+                     * then each band's total, RGB; points into the fiber table's data */
     size_t floats;
 } plm_fiber_medulla_table;
+
+/* At most this many |theta_i| bands (the layout keeps to it). */
+#define PLM_FIBER_MEDULLA_MAX_BANDS 32
 
 /* The resolution for p (theta_nodes 0 without a medulla) and its size in
  * floats, given the fiber table's symmetry; r overrides the defaults. */
@@ -58,30 +61,36 @@ struct plm_fiber_table_options;
 plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
                                    const struct plm_fiber_table_options *o, double started, plm_error *err);
 
-/* A prepared query: the four view nodes around wo with their bilinear
- * weights and the rows whose combination is the mean over [h-, h+]. */
+/* A prepared query: the weighted rows (terms) of the four view nodes around
+ * wo whose sum is the mean over [h-, h+] between the nodes, as the other
+ * part's (render/fiber_table.h), and the part's energy. */
+#define PLM_FIBER_MEDULLA_TERMS 16 /* four nodes, four rows each */
 typedef struct plm_fiber_medulla_query {
     const plm_fiber_medulla_table *table; /* NULL: no medulla part */
-    const float *corner[4];
-    double weight[4];
-    double corner_total[4]; /* each node's energy over the interval (mean of RGB) */
-    double total;           /* sum_c weight_c corner_total_c */
-    size_t row[4];          /* row offsets (floats) in a node ... */
-    double row_coef[4];     /* ... and their coefficients, divided by (h+ - h-) */
-    int rows, flip;
+    const float *term[PLM_FIBER_MEDULLA_TERMS];
+    double coef[PLM_FIBER_MEDULLA_TERMS]; /* a node's bilinear weight times the row's h weight */
+    int terms, flip;
+    double sum;   /* the part's energy, the sum of RGB ... */
+    double total; /* ... and their mean */
     double phi_o;  /* of wo */
-    double origin; /* the columns' azimuth is phi_i - phi_o (mirrored by flip) plus this */
+    double origin; /* the columns' azimuth is the relative azimuth delta (below) plus this */
 } plm_fiber_medulla_query;
 
-void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, vec3 wo, double hmin, double hmax,
+/* v: wo and the interval as both parts see them (render/fiber_table.h). */
+struct plm_fiber_view;
+void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
                                plm_fiber_medulla_query *q);
-/* eval into *f (if not NULL): the bin densities interpolated bilinearly
- * between bin centres, over cos^2(theta_i); and the sampler's
- * piecewise-constant solid-angle density into *pdf. */
-void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, vec3 wi, rgb *f, double *pdf);
-/* A node by energy (u0), a |theta_i| band by its mass and the sign of
- * theta_i (u1), a phi_i bin by the band's cumulative row (u2), uniform
- * within the bin. Returns 0 if there is nothing to sample. */
-int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, vec3 *wi);
+/* At wi given by its angles in the table's orientation (theta_i, delta =
+ * phi_i - phi_o, mirrored when the view is, cos(theta_i)): eval into *f (if
+ * not NULL), the bin densities interpolated bilinearly between bin centres,
+ * over cos^2(theta_i); and the sampler's piecewise-constant solid-angle
+ * density into *pdf. */
+void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf);
+/* A |theta_i| band by its mass (u0), the sign of theta_i and the position in
+ * the band (u1), a phi_i bin by the band's cumulative row (u2), uniform
+ * within the bin: the direction into wi, its angles (as the lookup takes
+ * them) into angles. Returns 0 if there is nothing to sample. */
+int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
+                             vec3 *wi);
 
 #endif

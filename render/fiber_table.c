@@ -339,10 +339,11 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
-/* The cell of h and h's fraction across it. */
-static int h_cell(const double *h_node, int cells, double h, double *frac)
+/* The cell of h (given with its asin, as cells are uniform in it) and h's
+ * fraction across it. */
+static int h_cell(const double *h_node, int cells, double h, double asin_h, double *frac)
 {
-    int j = (int)floor((plm_safe_asin(h) + HALF_PI) / PLM_PI * cells);
+    int j = (int)floor((asin_h + HALF_PI) / PLM_PI * cells);
     j = j < 0 ? 0 : j >= cells ? cells - 1 : j;
     double lo = h_node[j], hi = h_node[j + 1];
     *frac = plm_clamp((h - lo) / (hi - lo), 0.0, 1.0);
@@ -360,12 +361,12 @@ static void add_row(plm_fiber_h_rows *l, int j, double coef)
     l->coef[l->n++] = coef;
 }
 
-void plm_fiber_interval_rows(const double *h_node, int cells, double hmin, double hmax, plm_fiber_h_rows *l)
+void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *l)
 {
     double f0, f1;
-    int j0 = h_cell(h_node, cells, hmin, &f0), j1 = h_cell(h_node, cells, hmax, &f1);
+    int j0 = h_cell(h_node, cells, v->hmin, v->asin_hmin, &f0), j1 = h_cell(h_node, cells, v->hmax, v->asin_hmax, &f1);
     l->n = 0;
-    double width = hmax - hmin;
+    double width = v->hmax - v->hmin;
     if (width < 1e-9) { /* the density at a point: its cell's */
         double inv = 1.0 / (h_node[j0 + 1] - h_node[j0]);
         add_row(l, j0 + 1, inv);
@@ -377,23 +378,6 @@ void plm_fiber_interval_rows(const double *h_node, int cells, double hmin, doubl
     add_row(l, j1 + 1, f1 * inv);
     add_row(l, j0, -(1.0 - f0) * inv);
     add_row(l, j0 + 1, -f0 * inv);
-}
-
-double plm_fiber_fold_phi(int symmetry, double phi, int *flip)
-{
-    /* x -> -x takes phi to pi - phi, y -> -y takes phi to -phi; either turns
-     * relative azimuths and h around (docs/fiber.md). */
-    int mirror_x = 0, mirror_y = 0;
-    if ((symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_X) && cos(phi) < 0.0)
-        mirror_x = 1;
-    if ((symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_Y) && sin(phi) < 0.0)
-        mirror_y = 1;
-    if (mirror_x)
-        phi = PLM_PI - phi;
-    if (mirror_y)
-        phi = -phi;
-    *flip = mirror_x ^ mirror_y;
-    return wrap_pi(phi);
 }
 
 void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
@@ -442,48 +426,79 @@ static void bin_masses(const plm_fiber_table_query *q, int b, int count, double 
             mass[i][ch] = col[i + 1][ch] - col[i][ch];
 }
 
-static void table_prepare(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, plm_fiber_table_query *q)
+int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber_view *v)
 {
-    q->table = t;
-    q->total = 0.0;
-    q->terms = 0;
     double ct = sqrt(wo.x * wo.x + wo.y * wo.y);
     if (!(ct > 1e-12) || !(hmin <= hmax))
-        return;
-    q->theta_o = atan2(wo.z, ct);
-    q->phi_o = atan2(wo.y, wo.x);
-    q->gm_scale = plm_fiber_gm_scale(t->params.beta_m, -q->theta_o);
-    double phi = plm_fiber_fold_phi(t->symmetry, q->phi_o, &q->flip);
-    if (q->flip) {
+        return 0;
+    double len = hypot(ct, wo.z);
+    v->theta_o = atan2(wo.z, ct);
+    v->phi_o = atan2(wo.y, wo.x);
+    v->sin_theta = fabs(wo.z) / len;
+    v->cos_theta = ct / len;
+    /* x -> -x takes phi to pi - phi, y -> -y takes phi to -phi; either turns
+     * relative azimuths and h around (docs/fiber.md). phi_o is in [-pi, pi],
+     * so its signs tell cos(phi_o) < 0 and sin(phi_o) < 0. */
+    int mirror_x = (symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_X) &&
+                   fabs(v->phi_o) > HALF_PI;
+    int mirror_y = (symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_Y) && v->phi_o < 0.0;
+    double phi = mirror_x ? PLM_PI - v->phi_o : v->phi_o;
+    v->phi = wrap_pi(mirror_y ? -phi : phi);
+    v->flip = mirror_x ^ mirror_y;
+    if (v->flip) {
         double lo = -hmax;
         hmax = -hmin;
         hmin = lo;
     }
-    hmin = plm_clamp(hmin, -1.0, 1.0);
-    hmax = plm_clamp(hmax, -1.0, 1.0);
-    /* Bilinear weights over (|theta_o|, phi_o). */
-    double len = hypot(ct, wo.z), ft = fabs(q->theta_o) < t->theta_max
-                                           ? theta_coordinate(t, fabs(q->theta_o), fabs(wo.z) / len, ct / len)
-                                           : t->theta_nodes - 1.0;
+    v->hmin = plm_clamp(hmin, -1.0, 1.0);
+    v->hmax = plm_clamp(hmax, -1.0, 1.0);
+    v->asin_hmin = asin(v->hmin);
+    v->asin_hmax = asin(v->hmax);
+    return 1;
+}
+
+void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
+                       double phi, int nodes[4], double w[4])
+{
     int it = (int)ft;
-    it = it >= t->theta_nodes - 1 ? t->theta_nodes - 2 : it;
+    it = it >= theta_nodes - 1 ? theta_nodes - 2 : it;
     ft -= it;
     int ip[2];
     double fp;
-    plm_fiber_phi_weights(t->symmetry, t->phi_nodes, t->phi_lo, t->phi_step, phi, ip, &fp);
-    int ip0 = ip[0], ip1 = ip[1];
-    int nodes[4] = {it * t->phi_nodes + ip0, it * t->phi_nodes + ip1, (it + 1) * t->phi_nodes + ip0,
-                    (it + 1) * t->phi_nodes + ip1};
-    double w[4] = {(1 - ft) * (1 - fp), (1 - ft) * fp, ft * (1 - fp), ft * fp};
-    plm_fiber_h_rows rows;
-    plm_fiber_interval_rows(t->h_node, t->h_cells, hmin, hmax, &rows);
+    plm_fiber_phi_weights(symmetry, phi_nodes, phi_lo, phi_step, phi, ip, &fp);
+    nodes[0] = it * phi_nodes + ip[0], nodes[1] = it * phi_nodes + ip[1];
+    nodes[2] = (it + 1) * phi_nodes + ip[0], nodes[3] = (it + 1) * phi_nodes + ip[1];
+    w[0] = (1 - ft) * (1 - fp), w[1] = (1 - ft) * fp, w[2] = ft * (1 - fp), w[3] = ft * fp;
+}
+
+int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
+                    const plm_fiber_h_rows *rows, const float **term, double *coef)
+{
     /* Row 0 is all zeros, and so is what a zero weight multiplies: neither makes a term. */
+    int n = 0;
     for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < rows.n; ++r)
-            if (w[c] > 0.0 && rows.coef[r] != 0.0 && rows.row[r] > 0) {
-                q->term[q->terms] = t->data + node_floats(t) * (size_t)nodes[c] + row_floats(t) * (size_t)rows.row[r];
-                q->coef[q->terms++] = w[c] * rows.coef[r];
+        for (int r = 0; r < rows->n; ++r)
+            if (w[c] > 0.0 && rows->coef[r] != 0.0 && rows->row[r] > 0) {
+                term[n] = data + node_floats * (size_t)nodes[c] + row_floats * (size_t)rows->row[r];
+                coef[n++] = w[c] * rows->coef[r];
             }
+    return n;
+}
+
+static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm_fiber_table_query *q)
+{
+    q->theta_o = v->theta_o;
+    q->phi_o = v->phi_o;
+    q->flip = v->flip;
+    q->gm_scale = plm_fiber_gm_scale(t->params.beta_m, -q->theta_o);
+    double ft = fabs(q->theta_o) < t->theta_max ? theta_coordinate(t, fabs(q->theta_o), v->sin_theta, v->cos_theta)
+                                                : t->theta_nodes - 1.0;
+    int nodes[4];
+    double w[4];
+    plm_fiber_corners(t->symmetry, t->theta_nodes, t->phi_nodes, t->phi_lo, t->phi_step, ft, v->phi, nodes, w);
+    plm_fiber_h_rows rows;
+    plm_fiber_interval_rows(t->h_node, t->h_cells, v, &rows);
+    q->terms = plm_fiber_terms(t->data, node_floats(t), row_floats(t), nodes, w, &rows, q->term, q->coef);
     q->total = fmax(0.0, column_mean(q, t->phi_bins));
 }
 
@@ -535,16 +550,6 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
     *pdf = gm * fmax(0.0, mass) / (q->total * w * ct);
 }
 
-static void table_lookup(const plm_fiber_table_query *q, vec3 wi, rgb *f, double *pdf)
-{
-    if (f)
-        *f = rgb_gray(0.0);
-    *pdf = 0.0;
-    double theta, delta, ct;
-    if (q->total > 0.0 && table_angles(q, wi, &theta, &delta, &ct))
-        table_lookup_angles(q, theta, delta, ct, f, pdf);
-}
-
 /* A bin by the mean channel's CDF (u0, then uniform within the bin) and
  * theta_i from G_M (u1): the angles into theta, delta (in the table's
  * orientation) and the direction into wi. */
@@ -591,8 +596,12 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
         out->total = out->set.total;
         return;
     }
-    table_prepare(table, wo, hmin, hmax, &out->tab);
-    plm_fiber_medulla_prepare(&table->medulla, wo, hmin, hmax, &out->med);
+    out->tab.table = table;
+    plm_fiber_view view;
+    if (plm_fiber_view_of(table->symmetry, wo, hmin, hmax, &view)) {
+        table_prepare(table, &view, &out->tab);
+        plm_fiber_medulla_prepare(&table->medulla, &view, &out->med);
+    }
     out->set.count = 0;
     out->set.total = 0.0;
     out->total = out->tab.total + out->med.total;
@@ -600,8 +609,8 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
 }
 
 /* eval into *f (if not NULL) and the mixture's pdf at wi; angles, if not
- * NULL, are wi's (theta_i, delta, cos(theta_i)) for the table part, known
- * when the table part sampled wi. */
+ * NULL, are wi's (theta_i, delta, cos(theta_i)) in the table's orientation,
+ * known when a part sampled wi; both parts read them. */
 static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles, rgb *f, double *pdf)
 {
     if (!b->tab.table) {
@@ -610,21 +619,26 @@ static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles
         *pdf = plm_fiber_pdf(b->params, &b->set, wi);
         return;
     }
-    double tab_pdf = 0.0, med_pdf;
+    double tab_pdf = 0.0, med_pdf = 0.0, own[3];
     if (f)
         *f = rgb_gray(0.0);
-    if (angles)
+    *pdf = 0.0;
+    if (!(b->tab.total > 0.0) && !(b->med.total > 0.0))
+        return;
+    if (!angles) {
+        if (!table_angles(&b->tab, wi, &own[0], &own[1], &own[2]))
+            return;
+        angles = own;
+    }
+    if (b->tab.total > 0.0)
         table_lookup_angles(&b->tab, angles[0], angles[1], angles[2], f, &tab_pdf);
-    else
-        table_lookup(&b->tab, wi, f, &tab_pdf);
-    *pdf = b->pick_table * tab_pdf;
     if (b->med.total > 0.0) {
         rgb med;
-        plm_fiber_medulla_lookup(&b->med, wi, f ? &med : NULL, &med_pdf);
+        plm_fiber_medulla_lookup(&b->med, angles, f ? &med : NULL, &med_pdf);
         if (f)
             *f = rgb_add(*f, med);
-        *pdf += (1.0 - b->pick_table) * med_pdf;
     }
+    *pdf = b->pick_table * tab_pdf + (1.0 - b->pick_table) * med_pdf;
 }
 
 rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
@@ -649,22 +663,19 @@ rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
     return f;
 }
 
-/* A direction from the mixture of the two parts; angles receives wi's
- * (theta_i, delta, cos(theta_i)) and *known points at it when the table
- * part sampled wi (its lookup then needs no angles of its own). */
-static int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi, double angles[3],
-                           const double **known)
+/* A direction from the mixture of the two parts, and its angles (theta_i,
+ * delta, cos(theta_i)) in the table's orientation, which the lookup of its
+ * eval and pdf then takes. */
+static int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi, double angles[3])
 {
-    *known = NULL;
     if (u0 < b->pick_table) {
         if (!table_sample(&b->tab, u0 / b->pick_table, u1, &angles[0], &angles[1], wi))
             return 0;
         angles[2] = sqrt(wi->x * wi->x + wi->y * wi->y);
-        *known = angles;
         return 1;
     }
     double remapped = plm_clamp((u0 - b->pick_table) / (1.0 - b->pick_table), 0.0, 0x1.fffffffffffffp-1);
-    return plm_fiber_medulla_sample(&b->med, remapped, u1, u2, wi);
+    return plm_fiber_medulla_sample(&b->med, remapped, u1, u2, angles, wi);
 }
 
 int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi)
@@ -679,8 +690,7 @@ int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b, double u0, double
         return 1;
     }
     double angles[3];
-    const double *known;
-    return bcsdf_sample_wi(b, u0, u1, u2, wi, angles, &known);
+    return bcsdf_sample_wi(b, u0, u1, u2, wi, angles);
 }
 
 int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec)
@@ -691,13 +701,12 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
         return plm_fiber_sample(b->params, &b->set, u0, u1, u2, rec);
     vec3 wi;
     double angles[3];
-    const double *known;
-    if (!bcsdf_sample_wi(b, u0, u1, u2, &wi, angles, &known))
+    if (!bcsdf_sample_wi(b, u0, u1, u2, &wi, angles))
         return 0;
     rec->lobe = -1;
     rgb f;
     double pdf, ct = sqrt(wi.x * wi.x + wi.y * wi.y);
-    bcsdf_lookup(b, wi, known, &f, &pdf);
+    bcsdf_lookup(b, wi, angles, &f, &pdf);
     if (!(pdf > 0.0))
         return 0;
     rec->wi = wi;

@@ -20,7 +20,7 @@
 #include "render/fiber.h"
 #include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 6
+#define PLM_FIBER_TABLE_VERSION 7
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
@@ -73,11 +73,8 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
 /* Shared by both parts' tables (fiber_medulla_table.c): h cell bounds
  * uniform in asin(h) (malloc'ed, NULL when out of memory) and the number of
  * h samples per cell the builds take (the same h in both parts, so their
- * energies add up); the rows and coefficients (at most 4) whose combination
- * of cumulative rows is the mean over [hmin, hmax]; phi_o of the first node
- * and the step between nodes for a symmetry; phi_o folded into the
- * symmetry's range (*flip: the mirrored view, whose relative azimuths and h
- * change sign); the two phi_o nodes around a folded phi_o and the fraction
+ * energies add up); phi_o of the first node and the step between nodes for
+ * a symmetry; the two phi_o nodes around a folded phi_o and the fraction
  * between them; and the wrapped Gaussian G_N's mass in each of `bins` bins
  * over [-pi, pi) times A, added to cell (RGB per bin). */
 double *plm_fiber_h_nodes(int cells);
@@ -89,17 +86,39 @@ double plm_fiber_theta_coordinate(double eta, double u_last, double theta_max, i
                                   double sin_theta, double cos_theta);
 double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nodes, int k);
 int plm_fiber_h_sub_samples(double beta_n, int cells); /* per cell, midpoint rule in asin(h) */
+void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step);
+void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
+                           double *frac);
+void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double delta);
+/* A prepare's steps shared by both parts: wo and the h-interval in the
+ * tables' terms (0 at the poles or for an empty interval); the rows and
+ * coefficients (at most 4) whose combination of cumulative rows is the mean
+ * over the view's interval; the four nodes (|theta_o| node it, phi_o node
+ * ip: index it phi_nodes + ip) around the view and their bilinear weights,
+ * given |theta_o|'s node coordinate ft and the folded phi_o; and the
+ * weighted rows (terms, at most 16) whose sum is the interval's mean
+ * between those nodes: node c's row rows->row[r] with weight w[c]
+ * rows->coef[r], the nodes node_floats and the rows row_floats apart in
+ * data. Returns the number of terms. */
+typedef struct plm_fiber_view {
+    double theta_o, phi_o;       /* wo's angles */
+    double sin_theta, cos_theta; /* of |theta_o| */
+    double phi;                  /* phi_o folded into the symmetry's range */
+    int flip;                    /* the mirrored view: relative azimuths and h change sign */
+    double hmin, hmax;           /* the interval in the folded view, within [-1, 1] ... */
+    double asin_hmin, asin_hmax; /* ... and their asin (h cells are uniform in it) */
+} plm_fiber_view;
+int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber_view *v);
 typedef struct plm_fiber_h_rows {
     int row[4];
     double coef[4];
     int n;
 } plm_fiber_h_rows;
-void plm_fiber_interval_rows(const double *h_node, int cells, double hmin, double hmax, plm_fiber_h_rows *rows);
-void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step);
-double plm_fiber_fold_phi(int symmetry, double phi, int *flip);
-void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
-                           double *frac);
-void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double delta);
+void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *rows);
+void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
+                       double phi, int nodes[4], double w[4]);
+int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
+                    const plm_fiber_h_rows *rows, const float **term, double *coef);
 /* Runs work(ctx, item, scratch, lobes) for items 0..items-1 on o's threads
  * (0: all cores), each thread with scratch_bytes of scratch and room for
  * `lobes` lobes, showing "what" and the progress on stderr (unless o->quiet)

@@ -121,12 +121,10 @@ static void reference_medulla(const plm_fiber_params *p, vec3 wo, double hmin, d
 /* The table's medulla part alone. */
 static rgb table_medulla_eval(const plm_fiber_table *t, vec3 wo, double hmin, double hmax, vec3 wi)
 {
-    plm_fiber_medulla_query q;
-    plm_fiber_medulla_prepare(&t->medulla, wo, hmin, hmax, &q);
-    rgb f;
-    double pdf;
-    plm_fiber_medulla_lookup(&q, wi, &f, &pdf);
-    return f;
+    plm_fiber_bcsdf b;
+    plm_fiber_bcsdf_prepare(&t->params, t, wo, hmin, hmax, NULL, &b);
+    b.tab.total = 0.0;
+    return plm_fiber_bcsdf_eval(&b, wi);
 }
 
 /* Relative L2 difference per channel of the table's medulla part against
