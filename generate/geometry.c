@@ -121,12 +121,20 @@ static plm_result alloc_mesh(plm_mesh *m, int vertices, int with_uvs, plm_error 
     return PLM_OK;
 }
 
-/* Fits the cage to the targets, refines it, and triangulates. */
-static plm_result limit_surface(const plm_subdiv_cage *cage, double *values, int level, plm_subdiv_limit *l,
-                                plm_error *err)
+/* Fits the cage to the targets, refines it into l, and triangulates l into
+ * out (vertex arrays allocated, with uvs and tangents if with_uvs, for the
+ * caller to fill from l). The caller frees l in any case (it starts zeroed,
+ * so a failed fit leaves nothing to free) and out on failure. */
+static plm_result limit_mesh(const plm_subdiv_cage *cage, double *values, int level, int with_uvs,
+                             plm_subdiv_limit *l, plm_mesh *out, plm_error *err)
 {
+    memset(l, 0, sizeof *l);
     plm_result rc = plm_subdiv_fit(cage, values, FIT_ITERATIONS, NULL, err);
-    return rc != PLM_OK ? rc : plm_subdiv_refine(cage, values, level, l, err);
+    if (rc == PLM_OK)
+        rc = plm_subdiv_refine(cage, values, level, l, err);
+    if (rc == PLM_OK)
+        rc = alloc_mesh(out, l->vertex_count, with_uvs, err);
+    return rc == PLM_OK ? triangulate(l, out, err) : rc;
 }
 
 /* Vane cage: (COLUMNS + 1) x (ROWS + 1) vertices over s in [-1, 1] across and
@@ -155,11 +163,7 @@ plm_result plm_vane_mesh(const plm_outline *o, int level, plm_mesh *out, plm_err
         }
     plm_subdiv_cage cage = {NX * NY, PLM_VANE_COLUMNS * PLM_VANE_ROWS, quads, W};
     plm_subdiv_limit l;
-    plm_result rc = limit_surface(&cage, values, level, &l, err);
-    if (rc == PLM_OK)
-        rc = alloc_mesh(out, l.vertex_count, 1, err);
-    if (rc == PLM_OK)
-        rc = triangulate(&l, out, err);
+    plm_result rc = limit_mesh(&cage, values, level, 1, &l, out, err);
     for (int i = 0; rc == PLM_OK && i < l.vertex_count; ++i) {
         const double *v = l.value + (size_t)i * W, *a = l.d1 + (size_t)i * W, *b = l.d2 + (size_t)i * W;
         /* dP/du and dP/dv from the two limit derivatives of position and uv:
@@ -224,11 +228,7 @@ plm_result plm_rachis_mesh(const plm_outline *o, int level, plm_mesh *out, plm_e
     }
     plm_subdiv_cage cage = {V, (int)(q - quads) / 4, quads, W};
     plm_subdiv_limit l;
-    plm_result rc = limit_surface(&cage, values, level, &l, err);
-    if (rc == PLM_OK)
-        rc = alloc_mesh(out, l.vertex_count, 0, err);
-    if (rc == PLM_OK)
-        rc = triangulate(&l, out, err);
+    plm_result rc = limit_mesh(&cage, values, level, 0, &l, out, err);
     for (int i = 0; rc == PLM_OK && i < l.vertex_count; ++i)
         put3(out->positions + 3 * i, get3(l.value + (size_t)i * W));
     vec3 *ref = rc == PLM_OK ? face_normal_sums(out) : NULL;
