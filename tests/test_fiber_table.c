@@ -51,6 +51,23 @@ static plm_fiber_table *get_table(const plm_fiber_params *p, const plm_fiber_tab
     return t;
 }
 
+/* A random view and h-interval: wo uniform on the sphere, the interval's
+ * ends uniform in [-1, 1]. */
+static void random_query(plm_rng *rng, vec3 *wo, double *hmin, double *hmax)
+{
+    *wo = random_sphere(rng);
+    double h0 = 2.0 * plm_rng_uniform(rng) - 1.0, h1 = 2.0 * plm_rng_uniform(rng) - 1.0;
+    *hmin = fmin(h0, h1);
+    *hmax = fmax(h0, h1);
+}
+
+/* The white furnace's integrals over the sphere: of eval cos, and of the pdf. */
+static void furnace_integrals(const plm_fiber_bcsdf *b, double *integral, double *pdf)
+{
+    *integral = integrate_bcsdf(b, 1, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 360, 720);
+    *pdf = integrate_bcsdf(b, 3, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 360, 720);
+}
+
 /* The circular Fig. 7 fiber at its default resolution (one phi_o node, so
  * it builds in well under a second): within 1% of the exact h-mean, with wi
  * at the lobes and uniform on the sphere. */
@@ -158,9 +175,9 @@ static void white_furnace(void **state)
         plm_rng_seed(&rng, 4, (uint64_t)e);
         plm_fiber_lobe lobes[5];
         for (int q = 0; q < 4; ++q) {
-            vec3 wo = random_sphere(&rng);
-            double h0 = 2.0 * plm_rng_uniform(&rng) - 1.0, h1 = 2.0 * plm_rng_uniform(&rng) - 1.0;
-            double hmin = fmin(h0, h1), hmax = fmax(h0, h1), energy = 0.0;
+            vec3 wo;
+            double hmin, hmax, energy = 0.0;
+            random_query(&rng, &wo, &hmin, &hmax);
             const int strata = 4000;
             for (int s = 0; s < strata; ++s) {
                 int n = plm_fiber_trace(&p, wo, hmin + (hmax - hmin) * (s + 0.5) / strata, NULL, lobes);
@@ -169,8 +186,8 @@ static void white_furnace(void **state)
             }
             plm_fiber_bcsdf b;
             plm_fiber_bcsdf_prepare(&p, t, wo, hmin, hmax, &rng, &b);
-            double integral = integrate_bcsdf(&b, 1, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 360, 720);
-            double pdf = integrate_bcsdf(&b, 3, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 360, 720);
+            double integral, pdf;
+            furnace_integrals(&b, &integral, &pdf);
             fprintf(stderr, "furnace e %.1f: integral %.5f, lobe energy %.5f, pdf %.5f\n", ecc[e], integral, energy, pdf);
             assert_double_near(integral, energy, 2e-3 * energy);
             assert_double_near(pdf, 1.0, 2e-3);
@@ -204,9 +221,9 @@ static void white_furnace_medulla(void **state)
         plm_rng_seed(&rng, 14, (uint64_t)e);
         plm_fiber_lobe lobes[5];
         for (int q = 0; q < 3; ++q) {
-            vec3 wo = random_sphere(&rng);
-            double h0 = 2.0 * plm_rng_uniform(&rng) - 1.0, h1 = 2.0 * plm_rng_uniform(&rng) - 1.0;
-            double hmin = fmin(h0, h1), hmax = fmax(h0, h1), energy = 0.0, sq = 0.0;
+            vec3 wo;
+            double hmin, hmax, energy = 0.0, sq = 0.0;
+            random_query(&rng, &wo, &hmin, &hmax);
             const int sets = 200000;
             for (int s = 0; s < sets; ++s) {
                 double x = 0.0;
@@ -219,8 +236,8 @@ static void white_furnace_medulla(void **state)
             double se = sqrt((sq - energy * energy) / (sets - 1)); /* an upper bound with strata */
             plm_fiber_bcsdf b;
             plm_fiber_bcsdf_prepare(&p, t, wo, hmin, hmax, NULL, &b);
-            double integral = integrate_bcsdf(&b, 1, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 360, 720);
-            double pdf = integrate_bcsdf(&b, 3, -0.5 * PLM_PI, 0.5 * PLM_PI, -PLM_PI, PLM_PI, 360, 720);
+            double integral, pdf;
+            furnace_integrals(&b, &integral, &pdf);
             fprintf(stderr, "furnace with medulla e %.1f: integral %.5f, lobe energy %.5f +- %.5f (medulla part %.3f), pdf %.5f\n",
                     p.eccentricity, integral, energy, se, b.med.total / b.total, pdf);
             assert_true(b.med.total > 0.1 * b.total);
@@ -276,14 +293,15 @@ static void tabulated_is_deterministic(void **state)
         plm_fiber_params_figure7(&p, v);
         plm_fiber_table *t = get_table(&p, &o);
         for (int q = 0; q < 20; ++q) {
-            vec3 wo = random_sphere(&rng);
-            double h0 = 2.0 * plm_rng_uniform(&rng) - 1.0, h1 = 2.0 * plm_rng_uniform(&rng) - 1.0;
+            vec3 wo;
+            double hmin, hmax;
+            random_query(&rng, &wo, &hmin, &hmax);
             plm_fiber_bcsdf a, b;
             plm_rng r1, r2;
             plm_rng_seed(&r1, 1, (uint64_t)q);
             plm_rng_seed(&r2, 2, (uint64_t)q);
-            plm_fiber_bcsdf_prepare(&p, t, wo, fmin(h0, h1), fmax(h0, h1), &r1, &a);
-            plm_fiber_bcsdf_prepare(&p, t, wo, fmin(h0, h1), fmax(h0, h1), q % 2 ? &r2 : NULL, &b);
+            plm_fiber_bcsdf_prepare(&p, t, wo, hmin, hmax, &r1, &a);
+            plm_fiber_bcsdf_prepare(&p, t, wo, hmin, hmax, q % 2 ? &r2 : NULL, &b);
             assert_true(a.total > 0.0 && a.total == b.total && a.pick_table == b.pick_table);
             assert_true(v < 2 || a.med.total > 0.0);
             for (int i = 0; i < 20; ++i) {
