@@ -185,7 +185,7 @@ static inline void dominant_frequency(const float *rgb, int w, int h, double *kx
 }
 
 /* The mean colour of a film. */
-static inline void film_mean(const plm_film *f, double mean[3])
+static inline void film_mean_rgb(const plm_film *f, double mean[3])
 {
     long n = (long)f->width * f->height;
     for (int c = 0; c < 3; ++c) {
@@ -278,7 +278,7 @@ static inline void closeup_check_zoom(const char *species, int size, int spp, co
             plm_film films[ZOOM_REPLICATES];
             closeup_render(&scene, ZOOM_REPLICATES, films, &pixel);
             for (int r = 0; r < ZOOM_REPLICATES; ++r) {
-                film_mean(&films[r], mean[far][r]);
+                film_mean_rgb(&films[r], mean[far][r]);
                 plm_film_free(&films[r]);
             }
             plm_scene_free(&scene);
