@@ -57,15 +57,23 @@ static rgb emission_weight(const plm_world *w, int light, rgb le, vec3 prev_p, v
     return rgb_scale(le, plm_power_heuristic(prev_pdf, light_pdf));
 }
 
-/* Next-event estimation: one light chosen uniformly, one sample of it. */
-static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *bsdf, plm_rng *rng,
+/* Two uniforms: the sampler's pair dim, or rng's. */
+static vec2 sample_2d(const plm_sampler *sampler, uint32_t dim, plm_rng *rng)
+{
+    if (sampler)
+        return plm_sampler_2d(sampler, dim);
+    double u1 = plm_rng_uniform(rng);
+    return v2(u1, plm_rng_uniform(rng));
+}
+
+/* Next-event estimation: one light chosen uniformly, one sample of it (u). */
+static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *bsdf, vec2 u, plm_rng *rng,
                         plm_estimator est, long long *rays)
 {
     int li = (int)(plm_rng_uniform(rng) * w->light_count);
     li = li < w->light_count ? li : w->light_count - 1;
-    double u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
     plm_light_sample ls;
-    if (!plm_light_sample_from(&w->lights[li], hit->p, u1, u2, &ls) || rgb_is_black(ls.radiance))
+    if (!plm_light_sample_from(&w->lights[li], hit->p, u.x, u.y, &ls) || rgb_is_black(ls.radiance))
         return rgb_gray(0.0);
     /* MIS weighs by the BSDF's density, which comes with eval. */
     int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
@@ -89,8 +97,8 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     return rgb_scale(rgb_mul(f, ls.radiance), visible * mis / light_pdf);
 }
 
-rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est, plm_rng *rng,
-                      long long *rays)
+rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est,
+                      const plm_sampler *sampler, plm_rng *rng, long long *rays)
 {
     rgb radiance = rgb_gray(0.0), beta = rgb_gray(1.0);
     vec3 prev_p = o;
@@ -118,11 +126,15 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
             break;
         vec3 wo = v3_neg(d);
         plm_material_bsdf(&seg.hit, wo, rng, &bsdf);
-        if (est != PLM_ESTIMATOR_BSDF && w->light_count > 0)
-            radiance = rgb_add(radiance, rgb_mul(beta, direct_light(w, &seg.hit, &bsdf, rng, est, rays)));
-        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
+        if (est != PLM_ESTIMATOR_BSDF && w->light_count > 0) {
+            vec2 u = sample_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_LIGHT, depth), rng);
+            radiance = rgb_add(radiance, rgb_mul(beta, direct_light(w, &seg.hit, &bsdf, u, rng, est, rays)));
+        }
+        /* The pair drives the choices that shape the lobe most (the feather's
+         * component and a fiber's azimuth bin or lobe, then theta_i). */
+        vec2 u = sample_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_BSDF, depth), rng);
         plm_bsdf_sample_rec s;
-        if (!plm_bsdf_sample(&bsdf, u0, u1, u2, &s))
+        if (!plm_bsdf_sample(&bsdf, u.x, u.y, plm_rng_uniform(rng), &s))
             break;
         beta = rgb_mul(beta, s.weight);
         if (rgb_is_black(beta)) /* nothing more can arrive (and 0 x an infinite sky would be NaN) */

@@ -71,18 +71,20 @@ static void render_tile(job *j, int tile, int s0, int s1)
         for (int x = x0; x < x0 + TILE && x < width; ++x) {
             long pixel = (long)y * width + x;
             double *acc = j->sum + 3 * pixel;
+            /* The pixel's samples share a sampler key (their stratification), each has a stream of its own. */
+            plm_sampler sampler = {plm_hash64(j->seed, (uint64_t)pixel, UINT64_MAX), 0, (uint32_t)j->spp};
             for (int s = s0; s < s1; ++s) {
                 plm_rng rng;
                 plm_rng_seed(&rng, plm_hash64(j->seed, (uint64_t)pixel, (uint64_t)s), 0);
-                double fx = x + plm_rng_uniform(&rng), fy = y + plm_rng_uniform(&rng);
-                double u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng);
+                sampler.index = (uint32_t)s;
+                vec2 film = plm_sampler_2d(&sampler, PLM_SAMPLE_PIXEL), lens = plm_sampler_2d(&sampler, PLM_SAMPLE_LENS);
                 vec3 o, d;
-                plm_camera_ray(&w->camera, fx, fy, u1, u2, &o, &d);
+                plm_camera_ray(&w->camera, x + film.x, y + film.y, lens.x, lens.y, &o, &d);
                 if (j->opt->trace_only) {
                     rays += plm_path_trace_only(w, o, d, j->max_depth, &rng);
                     continue;
                 }
-                rgb l = plm_path_radiance(w, o, d, j->max_depth, j->opt->estimator, &rng, &rays);
+                rgb l = plm_path_radiance(w, o, d, j->max_depth, j->opt->estimator, &sampler, &rng, &rays);
                 if (!rgb_is_finite(l)) {
                     ++bad;
                     continue;

@@ -1,5 +1,7 @@
 #include "render/sampling.h"
 
+#include "common/rng.h"
+
 vec3 plm_sample_cosine_hemisphere(double u1, double u2)
 {
     double r = sqrt(u1), phi = PLM_TWO_PI * u2;
@@ -44,4 +46,56 @@ int plm_distribution1d_sample(const plm_distribution1d *d, double u, double *rem
         *remapped = t < 0.0 ? 0.0 : (t >= 1.0 ? 0x1.fffffffffffffp-1 : t);
     }
     return lo;
+}
+
+/* ---- the stratified sampler ---------------------------------------------- */
+
+static uint32_t reverse_bits(uint32_t x)
+{
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
+    x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
+    x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
+    return ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
+}
+
+/* Sobol's second dimension as 32 bits: index bit k adds column k of its
+ * generator matrix (the binary Pascal triangle); the first dimension, the
+ * radical inverse, is the bit reversal. */
+static uint32_t sobol_second(uint32_t i)
+{
+    uint32_t x = 0;
+    for (uint32_t column = 1u << 31; i; i >>= 1, column ^= column >> 1)
+        if (i & 1u)
+            x ^= column;
+    return x;
+}
+
+/* A bijection of [0, n) chosen by key: xor, odd multiply and xor-shift, each
+ * invertible on the bits of the next power of two, repeated on values that
+ * land outside [0, n) (cycle walking) until one lands inside. */
+static uint32_t shuffle(uint32_t i, uint32_t n, uint64_t key)
+{
+    if (n < 2 || i >= n)
+        return i;
+    uint32_t mask = n - 1;
+    int bits = 0;
+    for (uint32_t m = mask; m; m >>= 1)
+        ++bits;
+    mask = bits >= 32 ? 0xffffffffu : (1u << bits) - 1u;
+    uint32_t a = (uint32_t)key, b = (uint32_t)(key >> 32) | 1u;
+    do {
+        i = ((i ^ a) * b) & mask;
+        i ^= i >> (bits / 2 + 1);
+        i = (i * 0x2c1b3c6du + (a >> 16)) & mask; /* 0x2c1b3c6d is odd */
+    } while (i >= n);
+    return i;
+}
+
+vec2 plm_sampler_2d(const plm_sampler *s, uint32_t dim)
+{
+    uint64_t scramble = plm_hash64(s->key, dim, 1), order = plm_hash64(s->key, dim, 2);
+    uint32_t i = shuffle(s->index, s->count, order);
+    uint32_t x = reverse_bits(i) ^ (uint32_t)scramble, y = sobol_second(i) ^ (uint32_t)(scramble >> 32);
+    return v2(x * 0x1p-32, y * 0x1p-32);
 }

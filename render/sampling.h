@@ -2,6 +2,8 @@
 #ifndef PLUMAGE_RENDER_SAMPLING_H
 #define PLUMAGE_RENDER_SAMPLING_H
 
+#include <stdint.h>
+
 #include "common/vec.h"
 
 /* Cosine-weighted direction about +z from two uniforms; pdf = cos(theta)/pi. */
@@ -33,5 +35,23 @@ static inline double plm_distribution1d_pmf(const plm_distribution1d *d, int i)
 {
     return d->cdf[i + 1] - d->cdf[i];
 }
+
+/* Stratified random numbers for the samples of one pixel (docs/rendering.md).
+ * Each dimension pair takes its points from a (0,2)-sequence in base 2 (the
+ * radical inverse and Sobol's second dimension): any power-of-two run of it
+ * puts one point in each cell of every grid of that many equal cells. Per
+ * pixel and pair the sample index is shuffled (a bijection of [0, count))
+ * and the points are XOR-scrambled by random bits, so each sample on its own
+ * is uniform in every pair and the pairs are independent (the estimate stays
+ * unbiased), while the count samples of a pixel together are its first
+ * count points: spread evenly over each pair's square. */
+typedef struct plm_sampler {
+    uint64_t key;   /* the pixel's (and the render's seed): scrambles and shuffles */
+    uint32_t index; /* this sample, in [0, count) */
+    uint32_t count; /* samples per pixel */
+} plm_sampler;
+
+/* Pair `dim` of the sample, in [0, 1)^2. */
+vec2 plm_sampler_2d(const plm_sampler *s, uint32_t dim);
 
 #endif

@@ -15,7 +15,9 @@
 #include <string.h>
 
 #include "render/render.h"
+#include "render/sampling.h"
 #include "render/scene_build.h"
+#include "tests/chi_square.h"
 #include "test_render_stats.h"
 
 /* ---------- scene building ---------- */
@@ -281,6 +283,87 @@ static void white_furnace(void **state)
 }
 
 
+/* ---------- the stratified sampler ---------- */
+
+/* 64 samples of a pixel fill every grid of 64 equal cells of each pair (a
+ * (0,6,2)-net: 1x64, 2x32, ... 64x1), whatever the key, and so do the first
+ * 32 of 45 (the shuffle is a bijection of [0, 45), so indices 0..31 are
+ * among them), with at most two per cell. */
+static void sampler_fills_every_elementary_grid(void **state)
+{
+    (void)state;
+    const uint32_t counts[2] = {64, 45};
+    for (int c = 0; c < 2; ++c)
+        for (uint64_t key = 1; key <= 20; ++key)
+            for (uint32_t dim = 0; dim < 6; ++dim) {
+                plm_sampler s = {plm_hash64(key, 5, 5), 0, counts[c]};
+                vec2 p[64];
+                for (s.index = 0; s.index < s.count; ++s.index) {
+                    p[s.index] = plm_sampler_2d(&s, dim);
+                    assert_true(p[s.index].x >= 0.0 && p[s.index].x < 1.0 && p[s.index].y >= 0.0 && p[s.index].y < 1.0);
+                }
+                int log_cells = counts[c] == 64 ? 6 : 5;
+                for (int a = 0; a <= log_cells; ++a) {
+                    int nx = 1 << a, ny = 1 << (log_cells - a), cell[64] = {0};
+                    for (uint32_t i = 0; i < s.count; ++i)
+                        cell[(int)(p[i].x * nx) * ny + (int)(p[i].y * ny)]++;
+                    for (int k = 0; k < nx * ny; ++k)
+                        if (cell[k] < 1 || cell[k] > (counts[c] == 64 ? 1 : 2))
+                            fail_msg("count %u key %llu dim %u grid %dx%d: cell %d holds %d", counts[c],
+                                     (unsigned long long)key, dim, nx, ny, k, cell[k]);
+                }
+            }
+}
+
+/* Each sample on its own is uniform in a pair and independent of another
+ * pair (what keeps a render unbiased; a pixel's samples are not independent
+ * of each other, which is the point): over many pixel keys, chi-square of one
+ * sample's pair on a 16 x 16 grid and of the first coordinates of two pairs. */
+static void sampler_samples_are_uniform_and_independent(void **state)
+{
+    (void)state;
+    enum { N = 60000, G = 16, TESTS = 2 };
+    static double observed[TESTS][G * G], expected[G * G];
+    for (int i = 0; i < G * G; ++i)
+        expected[i] = (double)N / (G * G);
+    for (uint64_t key = 0; key < N; ++key) {
+        plm_sampler s = {plm_hash64(key, 9, 9), 13, 48};
+        vec2 a = plm_sampler_2d(&s, 3), b = plm_sampler_2d(&s, 4);
+        observed[0][(int)(a.x * G) * G + (int)(a.y * G)] += 1.0;
+        observed[1][(int)(a.x * G) * G + (int)(b.x * G)] += 1.0;
+    }
+    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / TESTS); /* Sidak */
+    for (int t = 0; t < TESTS; ++t) {
+        double pv = chi_square_test(observed[t], expected, G * G);
+        if (!(pv > threshold))
+            fail_msg("chi-square test %d: p-value %.5f below %.5f", t, pv, threshold);
+    }
+}
+
+/* The renderer's stratified samples estimate the same image as independent
+ * ones (under a perforated sheet: passing, transparent shadows, MIS) and with
+ * less variance per sample. */
+static void stratified_sampler_agrees_with_independent_samples(void **state)
+{
+    (void)state;
+    plm_scene s;
+    lit_room(&s, 0.6);
+    plm_world w;
+    plm_error err;
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    enum { KEYS = 1500, SPP = 16 };
+    estimate indep = film_mean(&w, PLM_ESTIMATOR_MIS, 6, KEYS * SPP, 31);
+    estimate strat = film_mean_stratified(&w, PLM_ESTIMATOR_MIS, 6, KEYS, SPP, 32);
+    assert_agree(indep, strat, 4.5);
+    /* Variance of a mean of SPP samples: stratified over independent. */
+    double ratio = strat.se * strat.se / (indep.se * indep.se * SPP);
+    fprintf(stderr, "stratified %.5f +- %.5f, independent %.5f +- %.5f, variance ratio %.3f\n", strat.mean, strat.se,
+            indep.mean, indep.se, ratio);
+    assert_true(ratio < 0.7);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
 static void render_threads(const plm_scene *s, int threads, uint64_t seed, plm_film *film)
 {
     plm_render_options opt = {0};
@@ -544,6 +627,9 @@ int main(void)
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(transmittance_through_stacked_sheets),
         cmocka_unit_test(bit_identical_at_any_thread_count),
+        cmocka_unit_test(sampler_fills_every_elementary_grid),
+        cmocka_unit_test(sampler_samples_are_uniform_and_independent),
+        cmocka_unit_test(stratified_sampler_agrees_with_independent_samples),
         cmocka_unit_test(cancelled_render_keeps_what_it_took),
         cmocka_unit_test(nonfinite_samples_are_counted_and_dropped),
         cmocka_unit_test(mask_filters_remove_background),

@@ -8,6 +8,28 @@
 
 typedef struct estimate { double mean, se; } estimate;
 
+/* The channel mean of one path through film position (x, y) (fractions of
+ * the film) and the pinhole; it must be finite. */
+static inline double film_sample(const plm_world *w, plm_estimator est, int max_depth, double x, double y,
+                                 const plm_sampler *sampler, plm_rng *rng)
+{
+    vec3 o, d;
+    plm_camera_ray(&w->camera, x * w->camera.width, y * w->camera.height, 0.5, 0.5, &o, &d);
+    long long rays = 0;
+    rgb l = plm_path_radiance(w, o, d, max_depth, est, sampler, rng, &rays);
+    assert_true(rgb_is_finite(l));
+    return rgb_mean(l);
+}
+
+/* The mean of n iid values from their sum and sum of squares, with its standard error. */
+static inline estimate iid_estimate(double sum, double sum2, long n)
+{
+    estimate e;
+    e.mean = sum / n;
+    e.se = sqrt(fmax(sum2 / n - e.mean * e.mean, 0.0) / n);
+    return e;
+}
+
 /* Mean radiance (channel mean) over the film rectangle [x0, x1) x [y0, y1)
  * (fractions of the film): n independent samples, each from a uniformly
  * random position in it through the pinhole, so the standard error is that
@@ -19,21 +41,37 @@ static inline estimate film_region_mean(const plm_world *w, plm_estimator est, i
     for (long i = 0; i < n; ++i) {
         plm_rng rng;
         plm_rng_seed(&rng, plm_hash64(seed, (uint64_t)i, 99), 3);
-        double x = (x0 + (x1 - x0) * plm_rng_uniform(&rng)) * w->camera.width;
-        double y = (y0 + (y1 - y0) * plm_rng_uniform(&rng)) * w->camera.height;
-        vec3 o, d;
-        plm_camera_ray(&w->camera, x, y, 0.5, 0.5, &o, &d);
-        long long rays = 0;
-        rgb l = plm_path_radiance(w, o, d, max_depth, est, &rng, &rays);
-        assert_true(rgb_is_finite(l));
-        double v = rgb_mean(l);
+        double x = x0 + (x1 - x0) * plm_rng_uniform(&rng), y = y0 + (y1 - y0) * plm_rng_uniform(&rng);
+        double v = film_sample(w, est, max_depth, x, y, NULL, &rng);
         sum += v;
         sum2 += v * v;
     }
-    estimate e;
-    e.mean = sum / n;
-    e.se = sqrt(fmax(sum2 / n - e.mean * e.mean, 0.0) / n);
-    return e;
+    return iid_estimate(sum, sum2, n);
+}
+
+/* The same mean over the whole film from `keys` independent runs of the
+ * stratified sampler (render/sampling.h) as the renderer uses it, each
+ * averaging spp samples whose film position (uniform over the film, as if it
+ * were one pixel), light and BSDF samples are stratified; the standard error
+ * is that of the runs' means, which are iid. */
+static inline estimate film_mean_stratified(const plm_world *w, plm_estimator est, int max_depth, long keys,
+                                            int spp, uint64_t seed)
+{
+    double sum = 0.0, sum2 = 0.0;
+    for (long k = 0; k < keys; ++k) {
+        plm_sampler sampler = {plm_hash64(seed, (uint64_t)k, 7), 0, (uint32_t)spp};
+        double run = 0.0;
+        for (int i = 0; i < spp; ++i) {
+            plm_rng rng;
+            plm_rng_seed(&rng, plm_hash64(seed, (uint64_t)k, 100 + (uint64_t)i), 3);
+            sampler.index = (uint32_t)i;
+            vec2 film = plm_sampler_2d(&sampler, PLM_SAMPLE_PIXEL);
+            run += film_sample(w, est, max_depth, film.x, film.y, &sampler, &rng) / spp;
+        }
+        sum += run;
+        sum2 += run * run;
+    }
+    return iid_estimate(sum, sum2, keys);
 }
 
 /* The whole film. */
