@@ -524,36 +524,52 @@ static double column_sum(const plm_fiber_medulla_query *q, int a, int col)
     double r = 0.0, g = 0.0, b = 0.0;
     for (int k = 0; k < q->terms; ++k) {
         const float *v = q->term[k] + o;
-        r += q->coef[k] * v[0];
-        g += q->coef[k] * v[1];
-        b += q->coef[k] * v[2];
+        double c = q->coef[k];
+        r += c * v[0];
+        g += c * v[1];
+        b += c * v[2];
     }
     return r + g + b;
 }
 
-/* The sums of columns c0, c0 + 1 (bin c0) and c1, c1 + 1 (bin c1; c1 =
- * c0 + 1, or 0 after the last bin) of bands a and a + 1, RGB:
- * col[band][column][channel], the terms read once. */
+/* The sums of columns col, col + 1 and col + 2 of bands a and a + 1, RGB:
+ * s[band][3 column + channel], the terms read once (a fixed count, so the
+ * sums stay in registers). */
+static void three_columns(const plm_fiber_medulla_query *q, int a, int col, double s[2][9])
+{
+    size_t o0 = column_offset(q, a, col), o1 = column_offset(q, a + 1, col);
+    double x[18] = {0.0};
+    for (int k = 0; k < q->terms; ++k) {
+        const float *v0 = q->term[k] + o0, *v1 = q->term[k] + o1;
+        double c = q->coef[k];
+        for (int i = 0; i < 9; ++i) {
+            x[i] += c * v0[i];
+            x[9 + i] += c * v1[i];
+        }
+    }
+    memcpy(s, x, sizeof x);
+}
+
+/* The sums of columns c0, c0 + 1 (bin c0) and c1, c1 + 1 (bin c1, the next,
+ * which wraps to 0 after the last) of bands a and a + 1, RGB:
+ * col[band][column][channel]. */
 static void bin_columns(const plm_fiber_medulla_query *q, int a, int c0, int c1, double col[2][4][3])
 {
-    int wraps = c1 != c0 + 1, n = wraps ? 6 : 9;
-    size_t o[2] = {column_offset(q, a, c0), column_offset(q, a + 1, c0)};
-    size_t o1[2] = {column_offset(q, a, 0), column_offset(q, a + 1, 0)};
-    memset(col, 0, sizeof(double) * 2 * 4 * 3);
-    for (int k = 0; k < q->terms; ++k)
-        for (int s = 0; s < 2; ++s) {
-            const float *v = q->term[k] + o[s], *v1 = q->term[k] + o1[s];
-            double *c = &col[s][0][0];
-            for (int i = 0; i < n; ++i)
-                c[i] += q->coef[k] * v[i];
-            for (int i = 0; wraps && i < 6; ++i)
-                c[6 + i] += q->coef[k] * v1[i];
+    double s[2][9], w[2][9];
+    if (c1 == c0 + 1) {
+        three_columns(q, a, c0, s);
+        for (int b = 0; b < 2; ++b) {
+            memcpy(col[b][0], s[b], 6 * sizeof(double));
+            memcpy(col[b][2], s[b] + 3, 6 * sizeof(double));
         }
-    if (!wraps) /* columns c1, c1 + 1 are c0 + 1, c0 + 2 */
-        for (int s = 0; s < 2; ++s) {
-            memcpy(col[s][3], col[s][2], sizeof col[s][3]);
-            memcpy(col[s][2], col[s][1], sizeof col[s][2]);
+    } else { /* c0 the last bin, c1 = 0 */
+        three_columns(q, a, c0 - 1, s);
+        three_columns(q, a, 0, w);
+        for (int b = 0; b < 2; ++b) {
+            memcpy(col[b][0], s[b] + 3, 6 * sizeof(double));
+            memcpy(col[b][2], w[b], 6 * sizeof(double));
         }
+    }
 }
 
 void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf)
@@ -609,8 +625,9 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     double sums[3 * PLM_FIBER_MEDULLA_MAX_BANDS] = {0.0}, mass = 0.0, target = u0 * q->sum;
     for (int k = 0; k < q->terms; ++k) {
         const float *v = q->term[k] + band_offset(m);
+        double c = q->coef[k];
         for (int i = 0; i < 3 * bands; ++i)
-            sums[i] += q->coef[k] * v[i];
+            sums[i] += c * v[i];
     }
     for (; a < bands; ++a) {
         mass = sums[3 * a] + sums[3 * a + 1] + sums[3 * a + 2];
@@ -639,9 +656,9 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     double theta = (u1 < 0.5 ? -1.0 : 1.0) * (a + plm_clamp(v, edge, 1.0 - edge)) * (HALF_PI / bands);
     double frac = plm_clamp((goal - x0) / (x1 - x0), edge, 1.0 - edge);
     double delta = wrap_pi(-PLM_PI + (lo + frac) * (PLM_TWO_PI / cols) - q->origin);
+    *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
     angles[0] = theta;
     angles[1] = delta;
-    angles[2] = cos(theta);
-    *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
+    angles[2] = sqrt(wi->x * wi->x + wi->y * wi->y);
     return 1;
 }
