@@ -61,6 +61,18 @@ static void random_query(plm_rng *rng, vec3 *wo, double *hmin, double *hmax)
     *hmax = fmax(h0, h1);
 }
 
+/* A white furnace's fiber: Fig. 7 fiber `variant` without absorption, of
+ * the given eccentricity, beta_n 0.2. */
+static plm_fiber_params white_fiber(int variant, double eccentricity)
+{
+    plm_fiber_params p;
+    plm_fiber_params_figure7(&p, variant);
+    p.sigma_a = rgb_gray(0.0);
+    p.eccentricity = eccentricity;
+    p.beta_n = 0.2;
+    return p;
+}
+
 /* The white furnace's integrals over the sphere: of eval cos, and of the pdf. */
 static void furnace_integrals(const plm_fiber_bcsdf *b, double *integral, double *pdf)
 {
@@ -165,11 +177,7 @@ static void white_furnace(void **state)
     plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 128);
     const double ecc[] = {1.0, 1.6};
     for (int e = 0; e < 2; ++e) {
-        plm_fiber_params p;
-        plm_fiber_params_figure7(&p, 0);
-        p.sigma_a = rgb_gray(0.0);
-        p.eccentricity = ecc[e];
-        p.beta_n = 0.2;
+        plm_fiber_params p = white_fiber(0, ecc[e]);
         plm_fiber_table *t = get_table(&p, &o);
         plm_rng rng;
         plm_rng_seed(&rng, 4, (uint64_t)e);
@@ -211,11 +219,7 @@ static void white_furnace_medulla(void **state)
     plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 128);
     o.medulla.theta_nodes = o.theta_nodes, o.medulla.phi_nodes = o.phi_nodes, o.medulla.h_cells = o.h_cells;
     for (int e = 0; e < 2; ++e) {
-        plm_fiber_params p;
-        plm_fiber_params_figure7(&p, e ? 3 : 2);
-        p.eccentricity = e ? 1.6 : 1.0;
-        p.sigma_a = rgb_gray(0.0);
-        p.beta_n = 0.2;
+        plm_fiber_params p = white_fiber(e ? 3 : 2, e ? 1.6 : 1.0);
         plm_fiber_table *t = get_table(&p, &o);
         plm_rng rng;
         plm_rng_seed(&rng, 14, (uint64_t)e);
