@@ -75,12 +75,8 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     plm_light_sample ls;
     if (!plm_light_sample_from(&w->lights[li], hit->p, u.x, u.y, &ls) || rgb_is_black(ls.radiance))
         return rgb_gray(0.0);
-    /* MIS weighs by the BSDF's density, which comes with eval. */
-    int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
-    double bsdf_pdf = 0.0;
-    rgb f = plm_bsdf_eval_pdf(bsdf, ls.wi, weighted ? &bsdf_pdf : NULL);
-    if (rgb_is_black(f))
-        return rgb_gray(0.0);
+    /* The shadow ray before the BSDF: a feather's eval costs more than the
+     * ray, and in a pelt nearly half the light samples are hidden. */
     vec3 o = plm_world_offset(w, hit, ls.wi);
     /* Area lights stop every ray: one in front of the sampled light hides it, as it does for bounce rays. */
     for (int i = 0; i < w->light_count; ++i) {
@@ -91,6 +87,12 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     }
     double visible = plm_shadow_transmittance(w, o, ls.wi, ls.dist, rays);
     if (visible <= 0.0)
+        return rgb_gray(0.0);
+    /* MIS weighs by the BSDF's density, which comes with eval. */
+    int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
+    double bsdf_pdf = 0.0;
+    rgb f = plm_bsdf_eval_pdf(bsdf, ls.wi, weighted ? &bsdf_pdf : NULL);
+    if (rgb_is_black(f))
         return rgb_gray(0.0);
     double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
     double mis = weighted ? plm_power_heuristic(light_pdf, bsdf_pdf) : 1.0;
