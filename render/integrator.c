@@ -11,14 +11,15 @@ typedef struct segment {
 } segment;
 
 /* Follows o + t d until it scatters off a surface, hits an area light or
- * escapes; surfaces it meets are passed with their transmission probability. */
-static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, double spread, plm_rng *rng, segment *seg,
-                                 long long *rays)
+ * escapes; surfaces it meets are passed with their transmission probability,
+ * decided by numbers hashed per surface from seed plus shift (the sampler
+ * keeps seed for all of a pixel's samples and stratifies the shift). */
+static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, double spread, uint64_t seed, double shift,
+                                 segment *seg, long long *rays)
 {
-    uint64_t seed = ((uint64_t)plm_rng_u32(rng) << 32) | plm_rng_u32(rng);
     double t_surface = INFINITY, t;
     ++*rays;
-    int surface = plm_world_intersect_passing(w, o, d, INFINITY, seed, spread, &t_surface, &seg->hit);
+    int surface = plm_world_intersect_passing(w, o, d, INFINITY, seed, shift, spread, &t_surface, &seg->hit);
     int light = -1;
     for (int i = 0; i < w->light_count; ++i) {
         rgb le;
@@ -108,8 +109,19 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
     segment seg;
     plm_bsdf bsdf;
     for (int depth = 0;; ++depth) {
+        /* The passing of this ray and the third BSDF number at the vertex it finds. */
+        uint64_t seed;
+        vec2 more;
+        if (sampler) {
+            seed = plm_hash64(sampler->key, (uint64_t)depth, 3);
+            more = plm_sampler_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_MORE, depth));
+        } else {
+            seed = ((uint64_t)plm_rng_u32(rng) << 32) | plm_rng_u32(rng);
+            more = v2(0.0, plm_rng_uniform(rng));
+        }
         /* Camera rays carry the pixel cone (near-field shading); after a scattering event it is lost. */
-        segment_end end = trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, rng, &seg, rays);
+        segment_end end =
+            trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, seed, more.x, &seg, rays);
         if (end == END_LIGHT) {
             rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est);
             radiance = rgb_add(radiance, rgb_mul(beta, le));
@@ -136,7 +148,7 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
          * component and a fiber's azimuth bin or lobe, then theta_i). */
         vec2 u = sample_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_BSDF, depth), rng);
         plm_bsdf_sample_rec s;
-        if (!plm_bsdf_sample(&bsdf, u.x, u.y, plm_rng_uniform(rng), &s))
+        if (!plm_bsdf_sample(&bsdf, u.x, u.y, more.y, &s))
             break;
         beta = rgb_mul(beta, s.weight);
         if (rgb_is_black(beta)) /* nothing more can arrive (and 0 x an infinite sky would be NaN) */

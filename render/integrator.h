@@ -16,15 +16,18 @@ typedef enum plm_estimator {
     PLM_ESTIMATOR_BSDF = 2  /* BSDF sampling only: emission found by bounce rays (misses delta lights) */
 } plm_estimator;
 
-/* The sampler's dimension pairs (render/sampling.h): the camera's, then two
- * per scattering event, for its light sample and its BSDF sample. */
-enum { PLM_SAMPLE_PIXEL = 0, PLM_SAMPLE_LENS = 1, PLM_SAMPLE_LIGHT = 2, PLM_SAMPLE_BSDF = 3 };
-#define PLM_SAMPLE_DIM(what, depth) ((uint32_t)(what) + 2u * (uint32_t)(depth))
+/* The sampler's dimension pairs (render/sampling.h): the camera's, then
+ * three per path vertex: its light sample, its BSDF sample's first two
+ * numbers, and the passing of the ray that reached it with the BSDF
+ * sample's third number. */
+enum { PLM_SAMPLE_PIXEL = 0, PLM_SAMPLE_LENS = 1, PLM_SAMPLE_LIGHT = 2, PLM_SAMPLE_BSDF = 3, PLM_SAMPLE_MORE = 4 };
+#define PLM_SAMPLE_DIM(what, depth) ((uint32_t)(what) + 3u * (uint32_t)(depth))
 
 /* Radiance arriving at o from direction -d along the ray o + t d.
  * max_depth is the most scattering events a path may have (0: emitters seen
- * directly). The light and BSDF samples come from sampler (stratified over
- * a pixel's samples) if it is not NULL, all other random numbers from rng.
+ * directly). The light and BSDF samples and the passing of vanes come from
+ * sampler (stratified over a pixel's samples) if it is not NULL, all other
+ * random numbers from rng.
  * Adds the number of rays cast (surface and shadow queries) to *rays. */
 rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator estimator,
                       const plm_sampler *sampler, plm_rng *rng, long long *rays);

@@ -31,7 +31,8 @@ typedef struct query_context {
     const plm_world *world;
     int transparent;
     int passing;
-    uint64_t seed;                    /* passing: decisions are hash(seed, instance, triangle) */
+    uint64_t seed;                    /* passing: decisions are hash(seed, instance, triangle) + shift, mod 1 */
+    double shift;
     double spread;                    /* pixel cone width per unit distance, 0: none (docs/nearfield.md) */
     vec3 back;                        /* unit, opposite to the ray's world-space direction */
     int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
@@ -85,7 +86,8 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
             /* One uniform per surface, from its identity rather than from the order Embree
              * reports candidates in: every surface nearer than the hit kept was reported
              * and passed, so the kept hit is distributed as when tracing one crossing at a time. */
-            double u = (double)(plm_hash64(ctx->seed, inst, prim) >> 11) * 0x1.0p-53;
+            double u = (double)(plm_hash64(ctx->seed, inst, prim) >> 11) * 0x1.0p-53 + ctx->shift;
+            u -= u >= 1.0 ? 1.0 : 0.0;
             if (tr > 0.0 && u < tr) {
                 args->valid[i] = 0;
             } else if (ctx->kept) { /* the hit and its masking, for the shading that follows */
@@ -464,14 +466,15 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
     return intersect(w, &ctx, o, d, tmax, t, hit);
 }
 
-int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double spread,
-                                double *t, plm_hit *hit)
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double shift,
+                                double spread, double *t, plm_hit *hit)
 {
     query_context ctx;
     init_context(&ctx, w, 0);
     ctx.spread = spread;
     ctx.passing = w->transmissive;
     ctx.seed = seed;
+    ctx.shift = shift;
     ctx.back = v3_neg(d);
     ctx.kept = hit;
     return intersect(w, &ctx, o, d, tmax, t, hit);

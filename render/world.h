@@ -54,11 +54,15 @@ void plm_world_free(plm_world *w);
 int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit);
 /* Closest surface along the ray that does not let it pass: each surface
  * with a transmission (toward -d) is passed with that probability, decided
- * by a uniform number hashed from (seed, instance, triangle). This is the
- * delta transmission as fractional visibility in one query. spread: the
+ * by the uniform number hashed from (seed, instance, triangle) plus shift,
+ * modulo 1 (a stratified shift, the same for all of a ray's surfaces, keeps
+ * each surface's number uniform and independent of the others' as long as
+ * the hash is random; docs/rendering.md). This is the delta transmission as
+ * fractional visibility in one query. spread: the
  * pixel cone's width per unit distance from o (camera rays: the camera's
  * pixel_spread), 0 for none; near-field shading uses it (docs/nearfield.md). */
-int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double spread,
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double shift,
+                                double spread,
                                 double *t, plm_hit *hit);
 
 /* Fraction of light passing the segment o + t d, t in (0, tmax): 0 if an

@@ -255,6 +255,29 @@ static void transmittance_through_stacked_sheets(void **state)
     assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &rays), 0.0, 0.0);
     assert_double_near(plm_shadow_transmittance(&w, v3(0.1, 0.2, -2.5), v3(0, 0, 1), INFINITY, &rays), 0.7 * 0.5 * 0.9,
                        1e-15);
+    /* Passing rays stop at sheet i with probability (1 - tr_i) times the
+     * product of the transmissions before it, also when a pixel's seed is
+     * kept and its samples' shifts are stratified (as the sampler does): the
+     * decisions at the sheets stay independent. */
+    enum { PIXELS = 4000, SHIFTS = 16 };
+    double observed[4] = {0}, expected[4], reach = PIXELS * SHIFTS;
+    for (int i = 0; i < 4; ++i) {
+        expected[i] = reach * (1.0 - tr[i]);
+        reach *= tr[i];
+    }
+    for (int p = 0; p < PIXELS; ++p)
+        for (int k = 0; k < SHIFTS; ++k) {
+            double t = 0.0;
+            plm_hit hit;
+            assert_true(plm_world_intersect_passing(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY,
+                                                    plm_hash64(41, (uint64_t)p, 0), (k + 0.5) / SHIFTS, 0.0, &t, &hit));
+            observed[(int)lround(t) - 1] += 1.0;
+        }
+    double pv = chi_square_test(observed, expected, 4);
+    if (!(pv > 0.01))
+        fail_msg("passing: stopped at the sheets %.0f %.0f %.0f %.0f times, expected %.0f %.0f %.0f %.0f (p %.5f)",
+                 observed[0], observed[1], observed[2], observed[3], expected[0], expected[1], expected[2],
+                 expected[3], pv);
     plm_world_free(&w);
     plm_scene_free(&s);
 }
@@ -341,13 +364,17 @@ static void sampler_samples_are_uniform_and_independent(void **state)
 }
 
 /* The renderer's stratified samples estimate the same image as independent
- * ones (under a perforated sheet: passing, transparent shadows, MIS) and with
- * less variance per sample. */
+ * ones (under two perforated sheets: passing, where one ray's decisions at
+ * the two must stay independent, transparent shadows, MIS) and with less
+ * variance per sample. */
 static void stratified_sampler_agrees_with_independent_samples(void **state)
 {
     (void)state;
     plm_scene s;
     lit_room(&s, 0.6);
+    add_object(&s, add_quad_mesh(&s, "sheet 2", 4, 4, 0), add_diffuse(&s, "sheet 2", rgb_gray(0.3), 0.5),
+               plm_xform_floor(1.2));
+    look(&s, v3(0, 2.5, 2.5), v3(0, 0.3, 0), v3(0, 1, 0), 50, 32, 24, 8); /* from above the sheets */
     plm_world w;
     plm_error err;
     assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
