@@ -619,26 +619,26 @@ static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles
         *pdf = plm_fiber_pdf(b->params, &b->set, wi);
         return;
     }
-    double tab_pdf = 0.0, med_pdf = 0.0, own[3];
+    double tab_pdf = 0.0, own[3];
     if (f)
         *f = rgb_gray(0.0);
     *pdf = 0.0;
-    if (!(b->tab.total > 0.0) && !(b->med.total > 0.0))
-        return;
     if (!angles) {
-        if (!table_angles(&b->tab, wi, &own[0], &own[1], &own[2]))
+        if (!(b->total > 0.0) || !table_angles(&b->tab, wi, &own[0], &own[1], &own[2]))
             return;
         angles = own;
     }
     if (b->tab.total > 0.0)
         table_lookup_angles(&b->tab, angles[0], angles[1], angles[2], f, &tab_pdf);
+    *pdf = b->pick_table * tab_pdf;
     if (b->med.total > 0.0) {
         rgb med;
+        double med_pdf;
         plm_fiber_medulla_lookup(&b->med, angles, f ? &med : NULL, &med_pdf);
         if (f)
             *f = rgb_add(*f, med);
+        *pdf += (1.0 - b->pick_table) * med_pdf;
     }
-    *pdf = b->pick_table * tab_pdf + (1.0 - b->pick_table) * med_pdf;
 }
 
 rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
