@@ -63,7 +63,6 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
     m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
     m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d.theta_bins;
-    m->res.theta_bins = m->res.theta_bins > PLM_FIBER_MEDULLA_MAX_BANDS ? PLM_FIBER_MEDULLA_MAX_BANDS : m->res.theta_bins;
     m->res.phi_bins = r && r->phi_bins > 0 ? r->phi_bins : d.phi_bins;
     m->res.directions = r && r->directions > 0 ? r->directions : d.directions;
     size_t node_bytes = sizeof(float) * node_floats(m);
@@ -511,16 +510,15 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
     q->total = q->sum / 3.0;
 }
 
-/* Column col of band a: its offset in a row, and the sum of its RGB over
- * the terms (the sampler's cumulative row). */
+/* Column col of band a: its offset in a row; and the sum of the RGB at an
+ * offset (a column: the sampler's cumulative row) over the terms. */
 static size_t column_offset(const plm_fiber_medulla_query *q, int a, int col)
 {
     return 3 * ((size_t)a * (q->table->res.phi_bins + 1) + col);
 }
 
-static double column_sum(const plm_fiber_medulla_query *q, int a, int col)
+static double sum_at(const plm_fiber_medulla_query *q, size_t o)
 {
-    size_t o = column_offset(q, a, col);
     double r = 0.0, g = 0.0, b = 0.0;
     for (int k = 0; k < q->terms; ++k) {
         const float *v = q->term[k] + o;
@@ -607,7 +605,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         mass = (x[1][0] + x[1][1] + x[1][2]) - (x[0][0] + x[0][1] + x[0][2]);
     } else {
         int bin = in_c ? c1 : c0;
-        mass = column_sum(q, in_a, bin + 1) - column_sum(q, in_a, bin);
+        mass = sum_at(q, column_offset(q, in_a, bin + 1)) - sum_at(q, column_offset(q, in_a, bin));
     }
     /* The sampler never picks a bin of no mass (or less, by rounding). */
     *pdf = positive(mass) / (q->sum * area * ct);
@@ -620,17 +618,12 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
         return 0;
     const plm_fiber_medulla_table *m = q->table;
     int bands = m->res.theta_bins, cols = m->res.phi_bins, a = 0;
-    /* The bands' masses from the rows' band totals: band a is picked with
-     * probability mass / q->sum (the last takes what rounding leaves). */
-    double sums[3 * PLM_FIBER_MEDULLA_MAX_BANDS] = {0.0}, mass = 0.0, target = u0 * q->sum;
-    for (int k = 0; k < q->terms; ++k) {
-        const float *v = q->term[k] + band_offset(m);
-        double c = q->coef[k];
-        for (int i = 0; i < 3 * bands; ++i)
-            sums[i] += c * v[i];
-    }
+    /* The bands' masses, each summed as its last column is, from the rows'
+     * band totals, until u0 falls in one: band a is picked with probability
+     * mass / q->sum (the last takes what rounding leaves). */
+    double mass = 0.0, target = u0 * q->sum;
     for (; a < bands; ++a) {
-        mass = sums[3 * a] + sums[3 * a + 1] + sums[3 * a + 2];
+        mass = sum_at(q, band_offset(m) + 3 * (size_t)a);
         if (target < mass || a == bands - 1)
             break;
         target -= positive(mass);
@@ -642,7 +635,7 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     int lo = 0, hi = cols; /* column lo <= goal < column hi */
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        double x = column_sum(q, a, mid);
+        double x = sum_at(q, column_offset(q, a, mid));
         if (x <= goal)
             lo = mid, x0 = x;
         else

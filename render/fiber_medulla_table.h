@@ -44,8 +44,6 @@ typedef struct plm_fiber_medulla_table {
     size_t floats;
 } plm_fiber_medulla_table;
 
-/* At most this many |theta_i| bands (the layout keeps to it). */
-#define PLM_FIBER_MEDULLA_MAX_BANDS 32
 
 /* The resolution for p (theta_nodes 0 without a medulla) and its size in
  * floats, given the fiber table's symmetry; r overrides the defaults. */
