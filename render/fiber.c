@@ -131,6 +131,8 @@ double plm_fiber_gm(double beta_m, double scale, double dtheta)
 
 double plm_fiber_sample_gm(double Theta, double beta_m, double u) { return sample_gm(Theta, beta_m, u); }
 
+double plm_fiber_normal_quantile(double u) { return SQRT2 * erfinv(to_open_symmetric(u)); }
+
 /* sum_k A_k G_M G_N and sum_k mean(A_k) G_M G_N at (theta, phi). */
 static void detector_sums_at(const plm_fiber_params *p, const plm_fiber_lobe_set *set, double theta, double phi,
                              rgb *f_sum, double *p_sum)
@@ -211,7 +213,7 @@ int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, d
     while (k + 1 < set->count && set->cdf[k + 1] <= target)
         ++k;
     double theta = sample_gm(set->theta[k], p->beta_m, u1);
-    double phi = remainder(set->phi[k] + SQRT2 * p->beta_n * erfinv(to_open_symmetric(u2)), PLM_TWO_PI);
+    double phi = remainder(set->phi[k] + p->beta_n * plm_fiber_normal_quantile(u2), PLM_TWO_PI);
     /* remainder(): the sampled offset may wrap several times when beta_n is large. */
     vec3 wi = plm_fiber_direction(theta, phi);
     double ct = sqrt(wi.x * wi.x + wi.y * wi.y), s; /* as eval and pdf compute it from wi */

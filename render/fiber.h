@@ -68,6 +68,8 @@ typedef struct plm_fiber_lobe {
     rgb throughput; /* fraction of the light entering at h that leaves here */
     int medulla;    /* 1 if the path bounced off the medulla before leaving (then dir is random); such
                      * lobes all follow the deterministic ones, which leave at theta = -theta_o */
+    int wall_hits;  /* before the medulla: the cortex interactions inside the fiber before this exit (0: the
+                     * surface reflection, 1: TT, 2: TRT, ...; total internal reflections count too) */
 } plm_fiber_lobe;
 
 /* Traces light arriving from view direction wo (unit, pointing away from the
@@ -132,6 +134,9 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
 double plm_fiber_gm_scale(double beta_m, double Theta);
 double plm_fiber_gm(double beta_m, double scale, double dtheta);
 double plm_fiber_sample_gm(double Theta, double beta_m, double u);
+/* The standard normal's inverse CDF at u in [0, 1), kept finite: G_N's
+ * sampler, and the tabulated BCSDF's for its moving lobes. */
+double plm_fiber_normal_quantile(double u);
 
 /* S(wo, wi) for a unit wi: eval(wi) cos(theta_i) = sum_k A_k G_M(theta_i - Theta_k) G_N(phi_i - Phi_k) / cos(theta_i),
  * so the integral of eval cos over the sphere is sum_k A_k. G_M is a Gaussian

@@ -9,10 +9,12 @@
  *   S(j, c) = integral over h in [h_0, h_j] and Delta below bin c's start of
  *             sum_k A_k(h) G_N(Delta - Delta_k(h)) over the lobes that never
  *             met the medulla,
- * a summed-area table in (h, Delta). A row at any h is the linear
- * interpolation of its cell's rows (the density is taken constant across a
- * cell), so the mean over [h-, h+] of the bin masses is a combination of at
- * most four rows, and the bin masses are differences of adjacent columns. */
+ * a summed-area table in (h, Delta): the mass of the whole cells an
+ * interval covers is a difference of two rows, the bin masses differences
+ * of adjacent columns. After the rows, per cell bound h_j and lobe k, the
+ * lobe's (Delta_k, A_k RGB) at h_j: within the partial cells at an
+ * interval's ends a lobe is taken to move and change linearly in h, and its
+ * G_N's mean over the piece is integrated in closed form (moving lobes). */
 #include "render/fiber_table.h"
 
 #include <pthread.h>
@@ -28,7 +30,19 @@
 /* ---- layout -------------------------------------------------------------- */
 
 static size_t row_floats(const plm_fiber_table *t) { return 3 * (size_t)(t->phi_bins + 1); }
-static size_t node_floats(const plm_fiber_table *t) { return (size_t)(t->h_cells + 1) * row_floats(t); }
+/* Per node the rows (bounds 0..h_cells), then per bound its lobe records
+ * and the flag of the cell above it (bound_records). */
+static size_t record_floats(const plm_fiber_table *t) { return t->lobe_slots ? 4 * (size_t)t->lobe_slots + 1 : 0; }
+static size_t bound_floats(const plm_fiber_table *t) { return row_floats(t) + record_floats(t); }
+static size_t node_floats(const plm_fiber_table *t) { return (size_t)(t->h_cells + 1) * bound_floats(t); }
+/* A node's lobe records at cell bound j: (Delta_k, A_k RGB) per slot k
+ * (the lobe's wall hits), then cell j's flag (h_j to h_j+1): 1 if its lobes
+ * move linearly enough across it to be integrated as moving lobes, else 0. */
+static float *bound_records(const plm_fiber_table *t, int node, int j)
+{
+    return t->data + node_floats(t) * (size_t)node + (size_t)(t->h_cells + 1) * row_floats(t) +
+           record_floats(t) * (size_t)j;
+}
 static double bin_width(const plm_fiber_table *t) { return PLM_TWO_PI / t->phi_bins; }
 
 /* theta_o nodes are uniform in the mean of theta_o / theta_max and of
@@ -113,7 +127,8 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;
     t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 40 : 12;
-    size_t row_bytes = sizeof(float) * row_floats(t);
+    t->lobe_slots = round_fiber ? p->lobes : 0;
+    size_t row_bytes = sizeof(float) * bound_floats(t);
     int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
     t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 72;
     t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
@@ -172,6 +187,83 @@ void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double del
     }
 }
 
+/* A node's lobe records: per cell bound h_j the lobes that never met the
+ * medulla, traced at h_j, each in the slot of its wall hits (so a total
+ * internal reflection, which stores no lobe, does not shift the lobes
+ * after it to another slot). A lobe missing at a bound (absorbed, or the
+ * path met the medulla or ended first) has A = 0 and the Delta of the
+ * nearest bound where it exists, so that its position can still be
+ * interpolated. Every cell's flag starts at 1 (check_linear clears it). */
+static void build_lobe_records(const plm_fiber_table *t, int node, vec3 wo, double phi_o, plm_rng *rng,
+                               plm_fiber_lobe *lobes)
+{
+    int bounds = t->h_cells + 1, L = t->lobe_slots;
+    for (int j = 0; j < bounds; ++j) {
+        float *r = bound_records(t, node, j);
+        r[4 * L] = 1.0f;
+        for (int k = 0; k < L; ++k)
+            r[4 * k] = NAN, r[4 * k + 1] = r[4 * k + 2] = r[4 * k + 3] = 0.0f;
+        int n = plm_fiber_trace(&t->params, wo, t->h_node[j], rng, lobes);
+        for (int i = 0; i < n && !lobes[i].medulla; ++i) {
+            int k = lobes[i].wall_hits;
+            if (k >= L || !(rgb_mean(lobes[i].throughput) > 0.0))
+                continue;
+            r[4 * k] = (float)remainder(atan2(lobes[i].dir.y, lobes[i].dir.x) - phi_o, PLM_TWO_PI);
+            r[4 * k + 1] = (float)lobes[i].throughput.r;
+            r[4 * k + 2] = (float)lobes[i].throughput.g;
+            r[4 * k + 3] = (float)lobes[i].throughput.b;
+        }
+    }
+    for (int k = 0; k < L; ++k) { /* missing positions: the previous bound's, before the first the next's */
+        float last = NAN;
+        for (int pass = 0; pass < 2; ++pass)
+            for (int i = 0; i < bounds; ++i) {
+                float *r = bound_records(t, node, pass ? bounds - 1 - i : i) + 4 * k;
+                if (isnan(r[0]))
+                    r[0] = last;
+                else
+                    last = r[0];
+            }
+        for (int j = 0; j < bounds; ++j) /* never present */
+            if (isnan(bound_records(t, node, j)[4 * k]))
+                bound_records(t, node, j)[4 * k] = 0.0f;
+    }
+}
+
+/* Clears cell j's flag if the lobes traced at h, a fraction f across the
+ * cell, stray from the straight line between the cell's bounds by more
+ * than beta_n, or their weights by more than 2% of the energy (a lobe
+ * that starts or stops meeting the medulla within the cell): then a
+ * partial cell is taken from the rows (its mass spread evenly) instead. */
+static void check_linear(const plm_fiber_table *t, int node, int j, double f, const plm_fiber_lobe *lobes, int n,
+                         double phi_o)
+{
+    float *r0 = bound_records(t, node, j), *r1 = bound_records(t, node, j + 1);
+    int L = t->lobe_slots;
+    double total = 0.0, off_weight = 0.0, off_place = 0.0;
+    double traced[2 * PLM_FIBER_SET_MAX_LOBES][2] = {{0.0}};
+    for (int i = 0; i < n && !lobes[i].medulla; ++i) {
+        double a = rgb_mean(lobes[i].throughput);
+        total += a;
+        if (lobes[i].wall_hits >= L) {
+            off_weight += a;
+            continue;
+        }
+        traced[lobes[i].wall_hits][0] = a;
+        traced[lobes[i].wall_hits][1] = remainder(atan2(lobes[i].dir.y, lobes[i].dir.x) - phi_o, PLM_TWO_PI);
+    }
+    for (int k = 0; k < L; ++k) {
+        const float *a = r0 + 4 * k, *b = r1 + 4 * k;
+        double wa = (a[1] + a[2] + a[3]) / 3.0, wb = (b[1] + b[2] + b[3]) / 3.0, w = wa + f * (wb - wa);
+        off_weight += fabs(traced[k][0] - w);
+        double place = a[0] + f * remainder((double)b[0] - a[0], PLM_TWO_PI);
+        if (traced[k][0] > 0.0)
+            off_place = fmax(off_place, fabs(remainder(traced[k][1] - place, PLM_TWO_PI)));
+    }
+    if (off_place > t->params.beta_n || off_weight > 0.02 * total)
+        r0[4 * L] = 0.0f;
+}
+
 typedef struct build_job {
     plm_fiber_table *table;
     int sub_samples; /* h samples per cell (midpoint rule in asin(h)) */
@@ -191,6 +283,8 @@ static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lob
     plm_rng_seed(&rng, 0x7ab1e, (uint64_t)node);
     double *cell = scratch, *row = scratch + 3 * bins;
     float *out = t->data + node_floats(t) * (size_t)node;
+    if (t->lobe_slots > 0)
+        build_lobe_records(t, node, wo, phi_o, &rng, lobes);
     for (size_t c = 0; c < row_floats(t); ++c)
         row[c] = out[c] = 0.0f;
     double dgamma = PLM_PI / t->h_cells / job->sub_samples;
@@ -200,6 +294,8 @@ static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lob
             double gamma = -HALF_PI + (j * job->sub_samples + m + 0.5) * dgamma, h = sin(gamma);
             double dh = cos(gamma) * dgamma;
             int n = plm_fiber_trace(p, wo, h, &rng, lobes);
+            if (t->lobe_slots > 0)
+                check_linear(t, node, j, (h - t->h_node[j]) / (t->h_node[j + 1] - t->h_node[j]), lobes, n, phi_o);
             for (int k = 0; k < n && !lobes[k].medulla; ++k) {
                 double delta = remainder(atan2(lobes[k].dir.y, lobes[k].dir.x) - phi_o, PLM_TWO_PI);
                 plm_fiber_gn_deposit(cell, bins, p->beta_n, rgb_scale(lobes[k].throughput, dh), delta);
@@ -338,6 +434,14 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 /* ---- queries ------------------------------------------------------------- */
 
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
+
+/* wrap_pi for |a| < 3 pi, without floor (a library call on plain x86-64). */
+static double wrap_near(double a)
+{
+    a = a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
+    return a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
+}
+
 
 /* The cell of h (given with its asin, as cells are uniform in it) and h's
  * fraction across it. */
@@ -485,6 +589,87 @@ int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, co
     return n;
 }
 
+/* Lobe k (a slot) across a cell seen from the view between the four nodes
+ * (weights w), from its records r0, r1 at the cell's bounds at each node:
+ * its place at the lower bound into *place and its motion across the cell
+ * into *motion (both weighted means over the nodes where the lobe exists
+ * at either bound), its weight (R, G, B) at the bounds into a0, a1
+ * (weighted sums). So a lobe moves between nodes rather than fading out at
+ * one place and in at another (its slot names it at every node), and
+ * linearly in h across the cell. Returns 0 if it exists nowhere. */
+static int lobe_across(const float *const r0[4], const float *const r1[4], const double w[4], int k, double *place,
+                       double *motion, double a0[3], double a1[3])
+{
+    double ref = 0.0, shift = 0.0, move = 0.0, weight = 0.0;
+    a0[0] = a0[1] = a0[2] = a1[0] = a1[1] = a1[2] = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        if (!(w[c] > 0.0))
+            continue;
+        const float *lo = r0[c] + 4 * k, *hi = r1[c] + 4 * k;
+        for (int ch = 0; ch < 3; ++ch) {
+            a0[ch] += w[c] * lo[1 + ch];
+            a1[ch] += w[c] * hi[1 + ch];
+        }
+        if (lo[1] + lo[2] + lo[3] + hi[1] + hi[2] + hi[3] > 0.0f) {
+            if (weight == 0.0)
+                ref = lo[0];
+            shift += w[c] * wrap_near(lo[0] - ref);
+            move += w[c] * wrap_near((double)hi[0] - lo[0]);
+            weight += w[c];
+        }
+    }
+    if (!(weight > 0.0))
+        return 0;
+    *place = ref + shift / weight;
+    *motion = move / weight;
+    return 1;
+}
+
+/* The piece of cell j from fraction f0 to f1, its share of the interval
+ * `share`, seen between the four nodes: a whole cell from the rows; part of
+ * one as moving lobes where the lobes of every node move linearly enough
+ * across the cell (the cell's flag); else from the rows too, the cell's
+ * mass taken as spread evenly over it. */
+static void add_piece(const plm_fiber_table *t, const int nodes[4], const double w[4], int j, double f0, double f1,
+                      double share, plm_fiber_h_rows *rows, plm_fiber_table_query *q)
+{
+    if (!(share > 0.0))
+        return;
+    int from_rows = (f0 <= 0.0 && f1 >= 1.0) || t->lobe_slots == 0 ||
+                    q->moving_count + t->lobe_slots > PLM_FIBER_TABLE_MOVING;
+    for (int c = 0; c < 4 && !from_rows; ++c)
+        from_rows = w[c] > 0.0 && bound_records(t, nodes[c], j)[4 * t->lobe_slots] == 0.0f;
+    if (from_rows) {
+        double coef = share / (t->h_node[j + 1] - t->h_node[j]);
+        add_row(rows, j + 1, coef);
+        add_row(rows, j, -coef);
+        return;
+    }
+    const float *r0[4], *r1[4];
+    for (int c = 0; c < 4; ++c) {
+        r0[c] = bound_records(t, nodes[c], j);
+        r1[c] = bound_records(t, nodes[c], j + 1);
+    }
+    for (int k = 0; k < t->lobe_slots; ++k) {
+        double place, motion, a0[3], a1[3];
+        if (!lobe_across(r0, r1, w, k, &place, &motion, a0, a1))
+            continue;
+        plm_fiber_table_moving_lobe *m = &q->moving[q->moving_count++];
+        m->delta0 = (float)wrap_near(place + f0 * motion);
+        m->slope = (float)((f1 - f0) * motion);
+        for (int ch = 0; ch < 3; ++ch) {
+            m->a0[ch] = (float)((a0[ch] + f0 * (a1[ch] - a0[ch])) * share);
+            m->a1[ch] = (float)((a0[ch] + f1 * (a1[ch] - a0[ch])) * share);
+        }
+    }
+}
+
+/* A moving lobe's energy (mean of RGB), as sampling picks it. */
+static double moving_mass(const plm_fiber_table_moving_lobe *m)
+{
+    return ((double)m->a0[0] + m->a0[1] + m->a0[2] + m->a1[0] + m->a1[1] + m->a1[2]) / 6.0;
+}
+
 static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm_fiber_table_query *q)
 {
     q->theta_o = v->theta_o;
@@ -496,10 +681,30 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     int nodes[4];
     double w[4];
     plm_fiber_corners(t->symmetry, t->theta_nodes, t->phi_nodes, t->phi_lo, t->phi_step, ft, v->phi, nodes, w);
-    plm_fiber_h_rows rows;
-    plm_fiber_interval_rows(t->h_node, t->h_cells, v, &rows);
+    /* The whole cells j0 + 1 .. j1 - 1 from the rows, the partial cells at
+     * the ends as pieces (add_piece); an interval inside one cell is one
+     * piece, a zero-width one the density at its h. */
+    double f0, f1, hmin = v->hmin, hmax = v->hmax, width = hmax - hmin;
+    int j0 = h_cell(t->h_node, t->h_cells, hmin, v->asin_hmin, &f0);
+    int j1 = h_cell(t->h_node, t->h_cells, hmax, v->asin_hmax, &f1);
+    plm_fiber_h_rows rows = {.n = 0};
+    q->moving_count = 0;
+    if (width < 1e-9) {
+        add_piece(t, nodes, w, j0, f0, f0, 1.0, &rows, q);
+    } else if (j0 == j1) {
+        add_piece(t, nodes, w, j0, f0, f1, 1.0, &rows, q);
+    } else {
+        double inv = 1.0 / width;
+        add_piece(t, nodes, w, j0, f0, 1.0, (t->h_node[j0 + 1] - hmin) * inv, &rows, q);
+        add_piece(t, nodes, w, j1, 0.0, f1, (hmax - t->h_node[j1]) * inv, &rows, q);
+        add_row(&rows, j1, inv);
+        add_row(&rows, j0 + 1, -inv);
+    }
     q->terms = plm_fiber_terms(t->data, node_floats(t), row_floats(t), nodes, w, &rows, q->term, q->coef);
-    q->total = fmax(0.0, column_mean(q, t->phi_bins));
+    q->rows_total = q->terms > 0 ? fmax(0.0, column_mean(q, t->phi_bins)) : 0.0;
+    q->total = q->rows_total;
+    for (int i = 0; i < q->moving_count; ++i)
+        q->total += moving_mass(&q->moving[i]);
 }
 
 /* theta_i, the relative azimuth in the table's orientation, and cos(theta_i)
@@ -515,11 +720,85 @@ static int table_angles(const plm_fiber_table_query *q, vec3 wi, double *theta, 
     return 1;
 }
 
+/* Phi(u0) - Phi(u1) for the standard normal's CDF Phi, from erfc where
+ * both are in one tail (erf would lose the digits). */
+static double normal_mass(double u0, double u1)
+{
+    const double r = 0.70710678118654752440;
+    if (u0 > 0.0 && u1 > 0.0)
+        return 0.5 * (erfc(u1 * r) - erfc(u0 * r));
+    if (u0 < 0.0 && u1 < 0.0)
+        return 0.5 * (erfc(-u0 * r) - erfc(-u1 * r));
+    return 0.5 * (erf(u0 * r) - erf(u1 * r));
+}
+
+/* A moving lobe's G_N is cut at this many std-devs and renormalised (its
+ * mass moves by 2e-9), so that a lobe further than that from wi costs
+ * nothing; the sampler draws the same cut Gaussian. */
+#define MOVING_CUT 6.0
+#define MOVING_TAIL 9.865876450377012e-10 /* the Gaussian's mass beyond MOVING_CUT std-devs on one side */
+
+/* One moving lobe's share of the density at dx = x - delta0 (one image of
+ * x on the circle), into d (RGB). With u = (dx - slope s) / beta_n, the
+ * weight's two moments over s in [0, 1] are closed forms:
+ *   J0 = int G ds   = (Phi(u0) - Phi(u1)) / slope,
+ *   J1 = int s G ds = (dx J0 - beta_n (phi(u1) - phi(u0)) / slope) / slope,
+ * with Phi, phi the standard normal's CDF and density, u0, u1 the values at
+ * s = 0, 1 clipped to the cut, all over the cut Gaussian's mass. A lobe
+ * that barely moves (slope below 1e-4 beta_n) takes G at its midpoint, off
+ * by a relative 1e-9. */
+static void moving_lobe_density(const plm_fiber_table_moving_lobe *m, double dx, double beta, double norm,
+                                double d[3])
+{
+    const double inv_sqrt_2pi = 0.39894228040143267794;
+    double slope = m->slope, j0, j1;
+    if (fabs(slope) > 1e-4 * beta) {
+        double u0 = plm_clamp(dx / beta, -MOVING_CUT, MOVING_CUT);
+        double u1 = plm_clamp((dx - slope) / beta, -MOVING_CUT, MOVING_CUT);
+        j0 = normal_mass(u0, u1) / slope;
+        double dphi = inv_sqrt_2pi * (exp(-0.5 * u1 * u1) - exp(-0.5 * u0 * u0));
+        j1 = (dx * j0 - beta * dphi / slope) / slope;
+    } else {
+        double u = (dx - 0.5 * slope) / beta;
+        j0 = fabs(u) < MOVING_CUT ? inv_sqrt_2pi / beta * exp(-0.5 * u * u) : 0.0;
+        j1 = 0.5 * j0;
+    }
+    for (int ch = 0; ch < 3; ++ch)
+        d[ch] += norm * (m->a0[ch] * (j0 - j1) + m->a1[ch] * j1);
+}
+
+/* The moving lobes' density at relative azimuth x in [-pi, pi) (R, G, B,
+ * then their mean into d[3]): the sum over lobes of the integral over s in
+ * [0, 1] of (a0 + (a1 - a0) s) G_N(x - delta0 - slope s), G_N cut. Only the
+ * images of x within the cut of a lobe's path count (one, unless the path
+ * and the cut reach around the circle). */
+static void moving_density(const plm_fiber_table_query *q, double x, double d[4])
+{
+    double beta = q->table->params.beta_n, cut = MOVING_CUT * beta, norm = 1.0 / (1.0 - 2.0 * MOVING_TAIL);
+    d[0] = d[1] = d[2] = 0.0;
+    for (int i = 0; i < q->moving_count; ++i) {
+        const plm_fiber_table_moving_lobe *m = &q->moving[i];
+        double half = 0.5 * fabs(m->slope), reach = half + cut, dx = wrap_near(x - m->delta0 - 0.5 * m->slope);
+        if (reach < PLM_PI) {
+            if (fabs(dx) < reach)
+                moving_lobe_density(m, dx + 0.5 * m->slope, beta, norm, d);
+            continue;
+        }
+        int images = 1 + (int)(reach / PLM_TWO_PI);
+        for (int k = -images; k <= images; ++k)
+            if (fabs(dx + PLM_TWO_PI * k) < reach)
+                moving_lobe_density(m, dx + PLM_TWO_PI * k + 0.5 * m->slope, beta, norm, d);
+    }
+    d[3] = (d[0] + d[1] + d[2]) / 3.0;
+}
+
 /* The table part at (theta_i, delta, cos(theta_i)): eval (G_M N / cos^2(theta_i),
- * N interpolated linearly between the two nearest bin centres) into *f if f
- * is not NULL, and the sampler's density (G_M times the piecewise-constant
- * bin density, per solid angle) into *pdf. The bin holding wi is one of the
- * two eval interpolates, so the pdf comes almost free with eval. */
+ * N from the whole cells interpolated linearly between the two nearest bin
+ * centres, plus the moving lobes') into *f if f is not NULL, and the
+ * sampler's density (G_M times the whole cells' piecewise-constant bin
+ * density plus the moving lobes', per solid angle) into *pdf. The bin
+ * holding wi is one of the two eval interpolates, so the pdf comes almost
+ * free with eval. */
 static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta, double ct, rgb *f,
                                 double *pdf)
 {
@@ -531,50 +810,85 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
     double w = bin_width(t), x = (delta + PLM_PI) / w - 0.5, fl = floor(x), frac = x - fl;
     int b0 = ((int)fl + n) % n, b1 = b0 + 1 < n ? b0 + 1 : 0; /* wi lies in b1 if frac >= 0.5 */
     int bin = frac >= 0.5 ? b1 : b0;
-    double m[2][3], mass;
+    double m[2][3] = {{0.0}}, mass = 0.0, moving[4];
+    moving_density(q, delta, moving);
     if (!f) {
-        mass = column_mean(q, bin + 1) - column_mean(q, bin);
+        if (q->terms > 0)
+            mass = column_mean(q, bin + 1) - column_mean(q, bin);
     } else {
-        if (b1 == b0 + 1) {
+        if (q->terms > 0 && b1 == b0 + 1) {
             bin_masses(q, b0, 2, m);
-        } else {
+        } else if (q->terms > 0) {
             bin_masses(q, b0, 1, &m[0]);
             bin_masses(q, b1, 1, &m[1]);
         }
-        double s = gm / (w * ct * ct), v[3];
+        double s = gm / (ct * ct), v[3];
         for (int ch = 0; ch < 3; ++ch)
-            v[ch] = (m[0][ch] + (m[1][ch] - m[0][ch]) * frac) * s;
-        *f = rgb_make(fmax(0.0, v[1]), fmax(0.0, v[2]), fmax(0.0, 3.0 * v[0] - v[1] - v[2]));
+            v[ch] = (m[0][ch] + (m[1][ch] - m[0][ch]) * frac) * s / w;
+        *f = rgb_make(fmax(0.0, v[1]) + moving[0] * s, fmax(0.0, v[2]) + moving[1] * s,
+                      fmax(0.0, 3.0 * v[0] - v[1] - v[2]) + moving[2] * s);
         mass = m[bin == b1][0];
     }
-    *pdf = gm * fmax(0.0, mass) / (q->total * w * ct);
+    *pdf = gm * (fmax(0.0, mass) / w + moving[3]) / (q->total * ct);
 }
 
-/* A bin by the mean channel's CDF (u0, then uniform within the bin) and
- * theta_i from G_M (u1): the angles into theta, delta (in the table's
- * orientation) and the direction into wi. */
-static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double *theta, double *delta,
-                        vec3 *wi)
+/* Within a moving lobe (u in [0, 1)): the place s along its piece, whose
+ * density is proportional to the weight a0 + (a1 - a0) s (the CDF's
+ * quadratic solved in a form that is stable when a0 = a1). */
+static double moving_place(double a0, double a1, double u)
+{
+    double root = sqrt(a0 * a0 + u * (a1 * a1 - a0 * a0));
+    return a0 + root > 0.0 ? plm_clamp(u * (a0 + a1) / (a0 + root), 0.0, 1.0) : u;
+}
+
+/* The relative azimuth by the mean channel (u0 picks the whole cells' rows
+ * or a moving lobe by energy; in the rows a bin by their CDF, then uniform
+ * within the bin; in a moving lobe the place along its piece, then u2 the
+ * offset from G_N) and theta_i from G_M (u1): the angles into theta, delta
+ * (in the table's orientation) and the direction into wi. */
+static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2, double *theta,
+                        double *delta, vec3 *wi)
 {
     if (!(q->total > 0.0))
         return 0;
     const plm_fiber_table *t = q->table;
-    double target = u0 * q->total, a = 0.0, b = q->total;
-    int lo = 0, hi = t->phi_bins; /* column lo <= target < column hi */
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        double m = column_mean(q, mid);
-        if (m <= target)
-            lo = mid, a = m;
-        else
-            hi = mid, b = m;
+    double target = u0 * q->total;
+    if (target < q->rows_total) {
+        double a = 0.0, b = q->rows_total;
+        int lo = 0, hi = t->phi_bins; /* column lo <= target < column hi */
+        while (hi - lo > 1) {
+            int mid = (lo + hi) / 2;
+            double m = column_mean(q, mid);
+            if (m <= target)
+                lo = mid, a = m;
+            else
+                hi = mid, b = m;
+        }
+        if (hi - lo != 1 || !(b > a))
+            return 0;
+        /* Kept off the bin's edges by far more than rounding moves an angle, so
+         * that wi's own angles find this bin again (pdf(wi) = the record's pdf). */
+        double frac = plm_clamp((target - a) / (b - a), 1e-9, 1.0 - 1e-9);
+        *delta = -PLM_PI + (lo + frac) * bin_width(t);
+    } else {
+        target -= q->rows_total;
+        int i = 0;
+        double mass = 0.0;
+        for (; i < q->moving_count; ++i) {
+            mass = moving_mass(&q->moving[i]);
+            if (target < mass || i == q->moving_count - 1)
+                break;
+            target -= mass;
+        }
+        if (i >= q->moving_count || !(mass > 0.0))
+            return 0;
+        const plm_fiber_table_moving_lobe *m = &q->moving[i];
+        double a0 = ((double)m->a0[0] + m->a0[1] + m->a0[2]) / 3.0, a1 = ((double)m->a1[0] + m->a1[1] + m->a1[2]) / 3.0;
+        double s = moving_place(a0, a1, plm_clamp(target / mass, 0.0, 1.0));
+        double z = plm_fiber_normal_quantile(MOVING_TAIL + u2 * (1.0 - 2.0 * MOVING_TAIL)); /* the cut Gaussian */
+        z = plm_clamp(z, -MOVING_CUT, MOVING_CUT);
+        *delta = wrap_pi(m->delta0 + m->slope * s + t->params.beta_n * z);
     }
-    if (hi - lo != 1 || !(b > a))
-        return 0;
-    /* Kept off the bin's edges by far more than rounding moves an angle, so
-     * that wi's own angles find this bin again (pdf(wi) = the record's pdf). */
-    double frac = plm_clamp((target - a) / (b - a), 1e-9, 1.0 - 1e-9);
-    *delta = -PLM_PI + (lo + frac) * bin_width(t);
     *theta = plm_fiber_sample_gm(-q->theta_o, t->params.beta_m, u1);
     *wi = plm_fiber_direction(*theta, q->phi_o + (q->flip ? -*delta : *delta));
     return 1;
@@ -669,7 +983,7 @@ rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
 static int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi, double angles[3])
 {
     if (u0 < b->pick_table) {
-        if (!table_sample(&b->tab, u0 / b->pick_table, u1, &angles[0], &angles[1], wi))
+        if (!table_sample(&b->tab, u0 / b->pick_table, u1, u2, &angles[0], &angles[1], wi))
             return 0;
         angles[2] = sqrt(wi->x * wi->x + wi->y * wi->y);
         return 1;

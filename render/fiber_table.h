@@ -20,7 +20,7 @@
 #include "render/fiber.h"
 #include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 7
+#define PLM_FIBER_TABLE_VERSION 8
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
@@ -46,12 +46,15 @@ enum {
 typedef struct plm_fiber_table {
     plm_fiber_params params;
     int theta_nodes, phi_nodes, h_cells, phi_bins, symmetry;
+    int lobe_slots;    /* lobe records per node and h cell bound, by the lobes' wall hits: p->lobes for a
+                        * rotationally symmetric fiber, else none (docs/fiber.md) */
     double theta_max;  /* |theta_o| of the last node; beyond it the last node serves */
     double u_first, u_last; /* nodes are uniform in u(|theta_o|) from u_first to u_last (docs/fiber.md) */
     double phi_lo, phi_step; /* phi_o of node k is phi_lo + k phi_step */
     double *h_node;    /* h_cells + 1 cell bounds, uniform in asin(h) */
-    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, (mean of RGB, R, G) (docs/fiber.md);
-                        * then the medulla part's */
+    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, (mean of RGB, R, G), then per
+                        * cell bound the lobe records (Delta_k, A_k RGB) and a flag (docs/fiber.md); then
+                        * the medulla part's */
     size_t floats;     /* both parts */
     plm_fiber_medulla_table medulla; /* theta_nodes 0 without a medulla */
     int from_cache;    /* 1 if read from the disk cache */
@@ -133,16 +136,28 @@ double plm_fiber_seconds(void); /* monotonic */
 int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_options *o, char *path,
                                size_t size);
 
-/* The table part of a prepared query: the mean over [h-, h+] at the view's
- * (theta_o, phi_o) at any column c is sum_k coef[k] term[k][3 c] (per
- * channel): each term is a row of one of the four nodes around wo, its
- * coefficient the node's bilinear weight times the row's h weight. */
+/* The table part of a prepared query, the mean over [h-, h+] at the view's
+ * (theta_o, phi_o) in two pieces. The h cells the interval covers whole:
+ * at any column c, sum_k coef[k] term[k][3 c] (per channel), each term a
+ * row of one of the four nodes around wo, its coefficient the node's
+ * bilinear weight times the row's h weight. The partial cells at the ends:
+ * moving lobes (docs/fiber.md), each a Gaussian G_N whose centre moves
+ * linearly from delta0 to delta0 + slope while its weight goes from a0 to a1
+ * (RGB, the piece's share of the interval included; floats, so that three
+ * prepared fibers fit a feather BSDF's state). */
 #define PLM_FIBER_TABLE_TERMS 16
+#define PLM_FIBER_TABLE_MOVING (2 * PLM_FIBER_SET_MAX_LOBES)
+typedef struct plm_fiber_table_moving_lobe {
+    float delta0, slope, a0[3], a1[3];
+} plm_fiber_table_moving_lobe;
+
 typedef struct plm_fiber_table_query {
     const plm_fiber_table *table;
     const float *term[PLM_FIBER_TABLE_TERMS];
     double coef[PLM_FIBER_TABLE_TERMS];
-    int terms;
+    int terms, moving_count;
+    plm_fiber_table_moving_lobe moving[PLM_FIBER_TABLE_MOVING];
+    double rows_total;       /* the whole cells' energy (mean of RGB) */
     double total;            /* the part's energy (mean of RGB), for sampling */
     int flip;                /* mirrored node: azimuths relative to phi_o change sign */
     double theta_o, phi_o, gm_scale;

@@ -170,6 +170,9 @@ plm_result plm_fiber_table_get(const plm_fiber_params *p, const plm_fiber_table_
     plm_result rc = plm_fiber_params_validate(p, err);
     if (rc != PLM_OK)
         return rc;
+    if (p->lobes > PLM_FIBER_SET_MAX_LOBES) /* the table keeps each lobe's place per h cell bound */
+        return plm_fail(err, PLM_ERR_INVALID, "fiber table: lobes %d is out of range [1, %d]", p->lobes,
+                        PLM_FIBER_SET_MAX_LOBES);
     plm_fiber_table *t = malloc(sizeof *t);
     if (!t)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");

@@ -262,6 +262,7 @@ static void enter(const plm_fiber_params *p, const ellipse *cortex, vec3 wo, dou
     lobe0->dir = reflect(d, n);
     lobe0->throughput = rgb_gray(f);
     lobe0->medulla = 0;
+    lobe0->wall_hits = 0;
     path->dir = refract(d, n, cos_i, cos_t, inv_eta);
     path->weight = 1.0 - f;
     path->tint = rgb_gray(1.0);
@@ -365,6 +366,7 @@ static int propagate(const plm_fiber_params *p, const fiber_shape *s, fiber_path
             lobes[count].dir = refract(path->dir, v3_neg(n), cos_i, cos_t, p->eta);
             lobes[count].throughput = path_throughput(p, path, 1.0 - f);
             lobes[count].medulla = bounced;
+            lobes[count].wall_hits = interaction + 1;
             ++count;
         }
         path->weight *= f;

@@ -283,6 +283,38 @@ static void sampling_matches_pdf(void **state)
     }
 }
 
+/* The moving lobes (a circular fiber's partial h cells, docs/fiber.md):
+ * sample against pdf for an interval filling most of one cell (16 cells:
+ * the lobes move several beta_n across it), one across a few cells and
+ * one of zero width, each made partly of moving lobes. */
+static void moving_lobes_sampling_matches_pdf(void **state)
+{
+    (void)state;
+    enum { N_TESTS = 3 };
+    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    const double interval[N_TESTS][2] = {{0.01, 0.19}, {-0.62, -0.35}, {0.7, 0.7}};
+    plm_fiber_table_options o = {0};
+    o.no_cache = 1;
+    o.quiet = 1;
+    o.theta_nodes = 7, o.h_cells = 16, o.phi_bins = 96;
+    plm_fiber_params p;
+    plm_fiber_params_figure7(&p, 0);
+    plm_fiber_table *t = get_table(&p, &o);
+    plm_rng rng;
+    plm_rng_seed(&rng, 8, 1);
+    for (int i = 0; i < N_TESTS; ++i) {
+        plm_fiber_bcsdf b;
+        plm_fiber_bcsdf_prepare(&p, t, plm_fiber_direction(0.4 - 0.3 * i, 1.1 + i), interval[i][0], interval[i][1],
+                                NULL, &b);
+        assert_true(b.tab.moving_count > 0);
+        double pv = bcsdf_chi_square(&b, &rng, 300000);
+        fprintf(stderr, "moving lobes, h in [%.2f, %.2f] (%d moving lobes, %d rows): p-value %.4f\n", interval[i][0],
+                interval[i][1], b.tab.moving_count, b.tab.terms, pv);
+        assert_true(pv > threshold);
+    }
+    plm_fiber_table_free(t);
+}
+
 /* With a table the estimator is deterministic in (wo, wi, h-, h+): the same
  * query prepared with different random streams (or none) gives identical
  * eval, pdf and samples, for a fiber with a medulla and one without. */
@@ -534,6 +566,7 @@ int main(void)
         cmocka_unit_test(medulla_split_matches_trace),
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(white_furnace_medulla),
+        cmocka_unit_test(moving_lobes_sampling_matches_pdf),
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(tabulated_is_deterministic),
         cmocka_unit_test(cache_hits_misses_and_rebuilds),
