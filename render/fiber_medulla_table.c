@@ -63,7 +63,7 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
     m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
     m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d.theta_bins;
-    m->res.phi_bins = r && r->phi_bins > 0 ? r->phi_bins : d.phi_bins;
+    m->res.phi_bins = r && r->phi_bins > 1 ? r->phi_bins : d.phi_bins; /* eval reads a bin and its neighbour */
     m->res.directions = r && r->directions > 0 ? r->directions : d.directions;
     size_t node_bytes = sizeof(float) * node_floats(m);
     int fit = (int)(PLM_FIBER_MEDULLA_BUDGET / (node_bytes * (size_t)m->res.theta_nodes));
@@ -473,9 +473,9 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
 /* ---- queries ------------------------------------------------------------- */
 
 /* Sums over a query's terms are taken per channel and in the terms' order
- * everywhere (a column's masses, a band's total), and a column's mean
- * channel is the sum of those three sums: so the pdf's bin masses are
- * exactly the differences the sampler's cumulative search sees, and a
+ * everywhere (a column's masses, a band's total), and what pdf and sampling
+ * read of a column is the sum of those three sums: so the pdf's bin masses
+ * are exactly the differences the sampler's cumulative search sees, and a
  * band's mass exactly the end of its cumulative row. */
 
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
