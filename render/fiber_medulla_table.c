@@ -417,7 +417,7 @@ static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *
     int it = node / m->res.phi_nodes, ip = node % m->res.phi_nodes;
     double theta_o = plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, it);
     double phi_o = m->phi_lo + ip * m->phi_step;
-    double *reach = scratch + 0, *cell = reach + 3 * (size_t)POINTS * (size_t)b->e.classes;
+    double *reach = scratch, *cell = reach + 3 * (size_t)POINTS * (size_t)b->e.classes;
     double *row = cell + 3 * (size_t)bands * cols, *ef = row + 3 * (size_t)bands * (cols + 1);
     int *e0 = (int *)(ef + cols), *e1 = e0 + cols;
     map_columns(b, m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? phi_o : 0.0, e0, e1, ef);

@@ -535,7 +535,7 @@ int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber
     double ct = sqrt(wo.x * wo.x + wo.y * wo.y);
     if (!(ct > 1e-12) || !(hmin <= hmax))
         return 0;
-    double len = hypot(ct, wo.z);
+    double len = sqrt(ct * ct + wo.z * wo.z); /* wo is about unit length: no hypot needed */
     v->theta_o = atan2(wo.z, ct);
     v->phi_o = atan2(wo.y, wo.x);
     v->sin_theta = fabs(wo.z) / len;
