@@ -472,15 +472,32 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
 
 /* ---- queries ------------------------------------------------------------- */
 
-/* Sums over a query's terms are taken per channel and in the terms' order
- * everywhere (a column's masses, a band's total), and what pdf and sampling
- * read of a column is the sum of those three sums: so the pdf's bin masses
- * are exactly the differences the sampler's cumulative search sees, and a
- * band's mass exactly the end of its cumulative row. */
+/* Sampling picks a view node by its energy, then a band and a bin in that
+ * node's terms alone (a quarter of them for four nodes); pdf and eval read
+ * all terms at once, and their density is the sampler's, the sum over the
+ * nodes, up to rounding. Sums over terms are taken per channel in the
+ * terms' order and what pdf and sampling read of a column is the sum of
+ * those three sums, so that a band's mass is exactly the end of its
+ * cumulative row. */
 
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
 static double positive(double x) { return x > 0.0 ? x : 0.0; }
+
+/* The sum of the RGB at offset o (a column: the sampler's cumulative row;
+ * a band's or the row's total) over terms k0 .. k1 - 1. */
+static double sum_at(const plm_fiber_medulla_query *q, int k0, int k1, size_t o)
+{
+    double r = 0.0, g = 0.0, b = 0.0;
+    for (int k = k0; k < k1; ++k) {
+        const float *v = q->term[k] + o;
+        double c = q->coef[k];
+        r += c * v[0];
+        g += c * v[1];
+        b += c * v[2];
+    }
+    return r + g + b;
+}
 
 void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
                                plm_fiber_medulla_query *q)
@@ -501,33 +518,18 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
     plm_fiber_corners(m->symmetry, n, m->res.phi_nodes, m->phi_lo, m->phi_step, ft, v->phi, nodes, w);
     plm_fiber_h_rows rows;
     plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, &rows);
-    q->terms = plm_fiber_terms(m->data, node_floats(m), row_floats(m), nodes, w, &rows, q->term, q->coef);
-    double sum[3] = {0.0, 0.0, 0.0};
-    for (int k = 0; k < q->terms; ++k)
-        for (int ch = 0; ch < 3; ++ch)
-            sum[ch] += q->coef[k] * q->term[k][total_offset(m) + ch];
-    q->sum = positive(sum[0] + sum[1] + sum[2]);
+    q->terms = plm_fiber_terms(m->data, node_floats(m), row_floats(m), nodes, w, &rows, q->term, q->coef, q->node_end);
+    for (int c = 0; c < 4; ++c) {
+        q->node_sum[c] = positive(sum_at(q, c ? q->node_end[c - 1] : 0, q->node_end[c], total_offset(m)));
+        q->sum += q->node_sum[c];
+    }
     q->total = q->sum / 3.0;
 }
 
-/* Column col of band a: its offset in a row; and the sum of the RGB at an
- * offset (a column: the sampler's cumulative row) over the terms. */
+/* Column col of band a: its offset in a row. */
 static size_t column_offset(const plm_fiber_medulla_query *q, int a, int col)
 {
     return 3 * ((size_t)a * (q->table->res.phi_bins + 1) + col);
-}
-
-static double sum_at(const plm_fiber_medulla_query *q, size_t o)
-{
-    double r = 0.0, g = 0.0, b = 0.0;
-    for (int k = 0; k < q->terms; ++k) {
-        const float *v = q->term[k] + o;
-        double c = q->coef[k];
-        r += c * v[0];
-        g += c * v[1];
-        b += c * v[2];
-    }
-    return r + g + b;
 }
 
 /* The sums of columns col, col + 1 and col + 2 of bands a and a + 1, RGB:
@@ -605,7 +607,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         mass = (x[1][0] + x[1][1] + x[1][2]) - (x[0][0] + x[0][1] + x[0][2]);
     } else {
         int bin = in_c ? c1 : c0;
-        mass = sum_at(q, column_offset(q, in_a, bin + 1)) - sum_at(q, column_offset(q, in_a, bin));
+        mass = sum_at(q, 0, q->terms, column_offset(q, in_a, bin + 1)) - sum_at(q, 0, q->terms, column_offset(q, in_a, bin));
     }
     /* The sampler never picks a bin of no mass (or less, by rounding). */
     *pdf = positive(mass) / (q->sum * area * ct);
@@ -617,13 +619,20 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     if (!q->table || !(q->sum > 0.0))
         return 0;
     const plm_fiber_medulla_table *m = q->table;
-    int bands = m->res.theta_bins, cols = m->res.phi_bins, a = 0;
-    /* The bands' masses, each summed as its last column is, from the rows'
-     * band totals, until u0 falls in one: band a is picked with probability
-     * mass / q->sum (the last takes what rounding leaves). */
+    int bands = m->res.theta_bins, cols = m->res.phi_bins, c = 0, a = 0;
+    /* A node by its energy, then with what is left of u0 a band by the
+     * bands' masses in that node, each summed as its last column is, from
+     * the rows' band totals, until u0 falls in one (the last node with
+     * energy and the last band take what rounding leaves). */
     double mass = 0.0, target = u0 * q->sum;
+    int last = 0;
+    for (int i = 0; i < 4; ++i)
+        last = q->node_sum[i] > 0.0 ? i : last;
+    while (c < last && (target >= q->node_sum[c] || !(q->node_sum[c] > 0.0)))
+        target -= q->node_sum[c++];
+    int k0 = c ? q->node_end[c - 1] : 0, k1 = q->node_end[c];
     for (; a < bands; ++a) {
-        mass = sum_at(q, band_offset(m) + 3 * (size_t)a);
+        mass = sum_at(q, k0, k1, band_offset(m) + 3 * (size_t)a);
         if (target < mass || a == bands - 1)
             break;
         target -= positive(mass);
@@ -639,7 +648,7 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     for (int probe = 0; hi - lo > 1; ++probe) {
         int mid = probe < 3 ? lo + (int)((goal - x0) / (x1 - x0) * (hi - lo) + 0.5) : (lo + hi) / 2;
         mid = mid <= lo ? lo + 1 : mid >= hi ? hi - 1 : mid;
-        double x = sum_at(q, column_offset(q, a, mid));
+        double x = sum_at(q, k0, k1, column_offset(q, a, mid));
         if (x <= goal)
             lo = mid, x0 = x;
         else

@@ -68,8 +68,10 @@ typedef struct plm_fiber_medulla_query {
     const float *term[PLM_FIBER_MEDULLA_TERMS];
     double coef[PLM_FIBER_MEDULLA_TERMS]; /* a node's bilinear weight times the row's h weight */
     int terms, flip;
-    double sum;   /* the part's energy, the sum of RGB ... */
-    double total; /* ... and their mean */
+    int node_end[4];    /* node c's terms end here, the next node's begin (sampling reads one node's) */
+    double node_sum[4]; /* node c's energy, the sum of RGB, at least 0 */
+    double sum;         /* the part's energy: the nodes' sum ... */
+    double total;       /* ... and its mean of RGB */
     double phi_o;  /* of wo */
     double origin; /* the columns' azimuth is the relative azimuth delta (below) plus this */
 } plm_fiber_medulla_query;
@@ -84,10 +86,11 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
  * over cos^2(theta_i); and the sampler's piecewise-constant solid-angle
  * density into *pdf. */
 void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf);
-/* A |theta_i| band by its mass (u0), the sign of theta_i and the position in
- * the band (u1), a phi_i bin by the band's cumulative row (u2), uniform
- * within the bin: the direction into wi, its angles (as the lookup takes
- * them) into angles. Returns 0 if there is nothing to sample. */
+/* A view node by its energy and a |theta_i| band by its mass in that node
+ * (u0), the sign of theta_i and the position in the band (u1), a phi_i bin
+ * by the band's cumulative row (u2), uniform within the bin: the direction
+ * into wi, its angles (as the lookup takes them) into angles. Returns 0 if
+ * there is nothing to sample. */
 int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
                              vec3 *wi);
 

@@ -576,16 +576,19 @@ void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_
 }
 
 int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
-                    const plm_fiber_h_rows *rows, const float **term, double *coef)
+                    const plm_fiber_h_rows *rows, const float **term, double *coef, int *node_end)
 {
     /* Row 0 is all zeros, and so is what a zero weight multiplies: neither makes a term. */
     int n = 0;
-    for (int c = 0; c < 4; ++c)
+    for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < rows->n; ++r)
             if (w[c] > 0.0 && rows->coef[r] != 0.0 && rows->row[r] > 0) {
                 term[n] = data + node_floats * (size_t)nodes[c] + row_floats * (size_t)rows->row[r];
                 coef[n++] = w[c] * rows->coef[r];
             }
+        if (node_end)
+            node_end[c] = n;
+    }
     return n;
 }
 
@@ -700,7 +703,7 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
         add_row(&rows, j1, inv);
         add_row(&rows, j0 + 1, -inv);
     }
-    q->terms = plm_fiber_terms(t->data, node_floats(t), row_floats(t), nodes, w, &rows, q->term, q->coef);
+    q->terms = plm_fiber_terms(t->data, node_floats(t), row_floats(t), nodes, w, &rows, q->term, q->coef, NULL);
     q->rows_total = q->terms > 0 ? fmax(0.0, column_mean(q, t->phi_bins)) : 0.0;
     q->total = q->rows_total;
     for (int i = 0; i < q->moving_count; ++i)

@@ -102,7 +102,8 @@ void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double del
  * weighted rows (terms, at most 16) whose sum is the interval's mean
  * between those nodes: node c's row rows->row[r] with weight w[c]
  * rows->coef[r], the nodes node_floats and the rows row_floats apart in
- * data. Returns the number of terms. */
+ * data, node by node (node_end, if not NULL: where each node's terms end).
+ * Returns the number of terms. */
 typedef struct plm_fiber_view {
     double theta_o, phi_o;       /* wo's angles */
     double sin_theta, cos_theta; /* of |theta_o| */
@@ -121,7 +122,7 @@ void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_vi
 void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
                        double phi, int nodes[4], double w[4]);
 int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
-                    const plm_fiber_h_rows *rows, const float **term, double *coef);
+                    const plm_fiber_h_rows *rows, const float **term, double *coef, int *node_end);
 /* Runs work(ctx, item, scratch, lobes) for items 0..items-1 on o's threads
  * (0: all cores), each thread with scratch_bytes of scratch and room for
  * `lobes` lobes, showing "what" and the progress on stderr (unless o->quiet)
