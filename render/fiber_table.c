@@ -3,7 +3,7 @@
  *
  * Notation: Delta = phi_i - phi_o is the azimuth relative to the view, cut
  * into phi_bins bins over [-pi, pi). For a node (theta_o, phi_o) the table
- * holds S(j, c) for rows j = 0..h_cells and columns c = 0..phi_bins, as the
+ * holds S(j, c) for rows j = 0..its h cells and columns c = 0..phi_bins, as the
  * mean of RGB, R and G (B = 3 mean - R - G), so that sampling and pdf read one
  * channel:
  *   S(j, c) = integral over h in [h_0, h_j] and Delta below bin c's start of
@@ -30,18 +30,39 @@
 /* ---- layout -------------------------------------------------------------- */
 
 static size_t row_floats(const plm_fiber_table *t) { return 3 * (size_t)(t->phi_bins + 1); }
-/* Per node the rows (bounds 0..h_cells), then per bound its lobe records
- * and the flag of the cell above it (bound_records). */
+/* Per node the rows (bounds 0..its h cells), then per bound its lobe
+ * records and the flag of the cell above it (bound_records). */
 static size_t record_floats(const plm_fiber_table *t) { return t->lobe_slots ? 4 * (size_t)t->lobe_slots + 1 : 0; }
 static size_t bound_floats(const plm_fiber_table *t) { return row_floats(t) + record_floats(t); }
-static size_t node_floats(const plm_fiber_table *t) { return (size_t)(t->h_cells + 1) * bound_floats(t); }
+/* |theta_o| node it's h cells and their bounds: the last grazing_nodes
+ * nodes have grazing_cells (docs/fiber.md). */
+static int grazing(const plm_fiber_table *t, int it) { return it >= t->theta_nodes - t->grazing_nodes; }
+static int cells_at(const plm_fiber_table *t, int it) { return grazing(t, it) ? t->grazing_cells : t->h_cells; }
+static const double *bounds_at(const plm_fiber_table *t, int it)
+{
+    return grazing(t, it) ? t->h_node_grazing : t->h_node;
+}
+static size_t node_floats(const plm_fiber_table *t, int it) { return (size_t)(cells_at(t, it) + 1) * bound_floats(t); }
+/* Nodes are stored by |theta_o| node, then phi_o node: the floats before
+ * |theta_o| node it's first (all of them for it = theta_nodes). */
+static size_t level_start(const plm_fiber_table *t, int it)
+{
+    int coarse = t->theta_nodes - t->grazing_nodes, below = it < coarse ? it : coarse;
+    size_t rows = (size_t)below * (t->h_cells + 1) + (size_t)(it - below) * (t->grazing_cells + 1);
+    return rows * (size_t)t->phi_nodes * bound_floats(t);
+}
+static float *node_data(const plm_fiber_table *t, int node)
+{
+    int it = node / t->phi_nodes;
+    return t->data + level_start(t, it) + node_floats(t, it) * (size_t)(node % t->phi_nodes);
+}
 /* A node's lobe records at cell bound j: (Delta_k, A_k RGB) per slot k
  * (the lobe's wall hits), then cell j's flag (h_j to h_j+1): 1 if its lobes
  * move linearly enough across it to be integrated as moving lobes, else 0. */
 static float *bound_records(const plm_fiber_table *t, int node, int j)
 {
-    return t->data + node_floats(t) * (size_t)node + (size_t)(t->h_cells + 1) * row_floats(t) +
-           record_floats(t) * (size_t)j;
+    int cells = cells_at(t, node / t->phi_nodes);
+    return node_data(t, node) + (size_t)(cells + 1) * row_floats(t) + record_floats(t) * (size_t)j;
 }
 static double bin_width(const plm_fiber_table *t) { return PLM_TWO_PI / t->phi_bins; }
 
@@ -130,17 +151,29 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     t->lobe_slots = round_fiber ? p->lobes : 0;
     size_t row_bytes = sizeof(float) * bound_floats(t);
     int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
-    t->h_cells = o && o->h_cells > 0 ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 72;
+    int h_set = o && o->h_cells > 0;
+    t->h_cells = h_set ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 56;
     t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
+    /* Toward grazing views a cell's mass spread evenly over it is off most
+     * (the lobes sweep the azimuths faster as h runs through it): the last
+     * three nodes get 120 cells, and 56 at the others keep the memory, so
+     * the phi_o nodes, of 72 everywhere (docs/fiber.md has the errors).
+     * Tables with lobe records integrate partial cells as moving lobes. */
+    if (!round_fiber) {
+        int g = o && o->grazing_nodes != 0 ? o->grazing_nodes : 3;
+        t->grazing_nodes = g < 0 ? 0 : g > t->theta_nodes ? t->theta_nodes : g;
+        t->grazing_cells = o && o->grazing_cells > 0 ? o->grazing_cells : h_set ? 2 * t->h_cells : 120;
+        t->grazing_cells = t->grazing_nodes == 0 ? 0 : t->grazing_cells;
+    }
     t->theta_max = plm_radians(89.0);
     t->u_first = 1.0 / p->eta;
     t->u_last = plm_fiber_theta_u(p->eta, t->theta_max);
-    size_t node_bytes = sizeof(float) * node_floats(t);
-    int nodes = (int)(budget / (node_bytes * (size_t)t->theta_nodes));
+    t->phi_nodes = 1;
+    int nodes = (int)(budget / (sizeof(float) * level_start(t, t->theta_nodes)));
     nodes = o && o->phi_nodes > 0 ? o->phi_nodes : nodes;
     t->phi_nodes = round_fiber ? 1 : nodes < 3 ? 3 : nodes;
     plm_fiber_phi_nodes(t->symmetry, t->phi_nodes, &t->phi_lo, &t->phi_step);
-    t->floats = node_floats(t) * (size_t)t->theta_nodes * (size_t)t->phi_nodes + t->medulla.floats;
+    t->floats = level_start(t, t->theta_nodes) + t->medulla.floats;
 }
 
 double *plm_fiber_h_nodes(int cells)
@@ -197,13 +230,14 @@ void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double del
 static void build_lobe_records(const plm_fiber_table *t, int node, vec3 wo, double phi_o, plm_rng *rng,
                                plm_fiber_lobe *lobes)
 {
-    int bounds = t->h_cells + 1, L = t->lobe_slots;
+    int it = node / t->phi_nodes, bounds = cells_at(t, it) + 1, L = t->lobe_slots;
+    const double *h_node = bounds_at(t, it);
     for (int j = 0; j < bounds; ++j) {
         float *r = bound_records(t, node, j);
         r[4 * L] = 1.0f;
         for (int k = 0; k < L; ++k)
             r[4 * k] = NAN, r[4 * k + 1] = r[4 * k + 2] = r[4 * k + 3] = 0.0f;
-        int n = plm_fiber_trace(&t->params, wo, t->h_node[j], rng, lobes);
+        int n = plm_fiber_trace(&t->params, wo, h_node[j], rng, lobes);
         for (int i = 0; i < n && !lobes[i].medulla; ++i) {
             int k = lobes[i].wall_hits;
             if (k >= L || !(rgb_mean(lobes[i].throughput) > 0.0))
@@ -264,38 +298,34 @@ static void check_linear(const plm_fiber_table *t, int node, int j, double f, co
         r0[4 * L] = 0.0f;
 }
 
-typedef struct build_job {
-    plm_fiber_table *table;
-    int sub_samples; /* h samples per cell (midpoint rule in asin(h)) */
-} build_job;
-
 /* One node: for each h cell, the bin masses of its lobes by the midpoint rule
  * in gamma = asin(h) (dh = cos(gamma) dgamma), then the summed rows. */
 static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lobes)
 {
-    const build_job *job = ctx;
-    const plm_fiber_table *t = job->table;
+    const plm_fiber_table *t = ctx;
     const plm_fiber_params *p = &t->params;
-    int bins = t->phi_bins, it = node / t->phi_nodes, ip = node % t->phi_nodes;
+    int bins = t->phi_bins, it = node / t->phi_nodes, ip = node % t->phi_nodes, cells = cells_at(t, it);
+    int sub_samples = plm_fiber_h_sub_samples(p->beta_n, cells); /* per cell, midpoint rule in asin(h) */
+    const double *h_node = bounds_at(t, it);
     double theta_o = node_theta(t, it), phi_o = t->phi_lo + ip * t->phi_step;
     vec3 wo = plm_fiber_direction(theta_o, phi_o);
     plm_rng rng; /* drives only medulla bounces, whose lobes are left out */
     plm_rng_seed(&rng, 0x7ab1e, (uint64_t)node);
     double *cell = scratch, *row = scratch + 3 * bins;
-    float *out = t->data + node_floats(t) * (size_t)node;
+    float *out = node_data(t, node);
     if (t->lobe_slots > 0)
         build_lobe_records(t, node, wo, phi_o, &rng, lobes);
     for (size_t c = 0; c < row_floats(t); ++c)
         row[c] = out[c] = 0.0f;
-    double dgamma = PLM_PI / t->h_cells / job->sub_samples;
-    for (int j = 0; j < t->h_cells; ++j) {
+    double dgamma = PLM_PI / cells / sub_samples;
+    for (int j = 0; j < cells; ++j) {
         memset(cell, 0, sizeof(double) * 3 * (size_t)bins);
-        for (int m = 0; m < job->sub_samples; ++m) {
-            double gamma = -HALF_PI + (j * job->sub_samples + m + 0.5) * dgamma, h = sin(gamma);
+        for (int m = 0; m < sub_samples; ++m) {
+            double gamma = -HALF_PI + (j * sub_samples + m + 0.5) * dgamma, h = sin(gamma);
             double dh = cos(gamma) * dgamma;
             int n = plm_fiber_trace(p, wo, h, &rng, lobes);
             if (t->lobe_slots > 0)
-                check_linear(t, node, j, (h - t->h_node[j]) / (t->h_node[j + 1] - t->h_node[j]), lobes, n, phi_o);
+                check_linear(t, node, j, (h - h_node[j]) / (h_node[j + 1] - h_node[j]), lobes, n, phi_o);
             for (int k = 0; k < n && !lobes[k].medulla; ++k) {
                 double delta = remainder(atan2(lobes[k].dir.y, lobes[k].dir.x) - phi_o, PLM_TWO_PI);
                 plm_fiber_gn_deposit(cell, bins, p->beta_n, rgb_scale(lobes[k].throughput, dh), delta);
@@ -384,8 +414,7 @@ int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err)
 {
     double t0 = plm_fiber_seconds();
-    build_job job = {t, plm_fiber_h_sub_samples(t->params.beta_n, t->h_cells)};
-    if (!plm_fiber_parallel(build_node, &job, t->theta_nodes * t->phi_nodes,
+    if (!plm_fiber_parallel(build_node, t, t->theta_nodes * t->phi_nodes,
                             sizeof(double) * 3 * (size_t)(2 * t->phi_bins + 1), t->params.lobes, o, "azimuths", t0))
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
     plm_result rc = plm_fiber_medulla_build(&t->params, &t->medulla, o, t0, err);
@@ -401,14 +430,17 @@ plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
 {
     t->data = malloc(sizeof(float) * t->floats);
     t->h_node = plm_fiber_h_nodes(t->h_cells);
+    t->h_node_grazing = t->grazing_nodes > 0 ? plm_fiber_h_nodes(t->grazing_cells) : NULL;
     if (t->data)
         t->medulla.data = t->data + (t->floats - t->medulla.floats);
-    if (!t->data || !t->h_node || plm_fiber_medulla_alloc(&t->medulla, err) != PLM_OK) {
+    if (!t->data || !t->h_node || (t->grazing_nodes > 0 && !t->h_node_grazing) ||
+        plm_fiber_medulla_alloc(&t->medulla, err) != PLM_OK) {
         free(t->data);
         free(t->h_node);
+        free(t->h_node_grazing);
         plm_fiber_medulla_release(&t->medulla);
         t->data = NULL;
-        t->h_node = NULL;
+        t->h_node = t->h_node_grazing = NULL;
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory (%zu MB)",
                         sizeof(float) * t->floats >> 20);
     }
@@ -421,13 +453,15 @@ void plm_fiber_table_free(plm_fiber_table *t)
         return;
     free(t->data);
     free(t->h_node);
+    free(t->h_node_grazing);
     plm_fiber_medulla_release(&t->medulla);
     free(t);
 }
 
 size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 {
-    return sizeof *t + sizeof(float) * t->floats + sizeof(double) * (size_t)(t->h_cells + 1) +
+    size_t grazing_bounds = t->grazing_nodes > 0 ? (size_t)t->grazing_cells + 1 : 0;
+    return sizeof *t + sizeof(float) * t->floats + sizeof(double) * ((size_t)t->h_cells + 1 + grazing_bounds) +
            sizeof(double) * (size_t)(t->medulla.res.h_cells + 1);
 }
 
@@ -638,8 +672,7 @@ static void add_piece(const plm_fiber_table *t, const int nodes[4], const double
 {
     if (!(share > 0.0))
         return;
-    int from_rows = (f0 <= 0.0 && f1 >= 1.0) || t->lobe_slots == 0 ||
-                    q->moving_count + t->lobe_slots > PLM_FIBER_TABLE_MOVING;
+    int from_rows = (f0 <= 0.0 && f1 >= 1.0) || q->moving_count + t->lobe_slots > PLM_FIBER_TABLE_MOVING;
     for (int c = 0; c < 4 && !from_rows; ++c)
         from_rows = w[c] > 0.0 && bound_records(t, nodes[c], j)[4 * t->lobe_slots] == 0.0f;
     if (from_rows) {
@@ -673,6 +706,29 @@ static double moving_mass(const plm_fiber_table_moving_lobe *m)
     return ((double)m->a0[0] + m->a0[1] + m->a0[2] + m->a1[0] + m->a1[1] + m->a1[2]) / 6.0;
 }
 
+/* The interval's pieces in a table with lobe records (every node's h
+ * cells alike): the whole cells j0 + 1 .. j1 - 1 from the rows, the partial
+ * cells at the ends as pieces (add_piece); an interval inside one cell is
+ * one piece, a zero-width one the density at its h. */
+static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, const int nodes[4],
+                            const double w[4], plm_fiber_h_rows *rows, plm_fiber_table_query *q)
+{
+    double f0, f1, hmin = v->hmin, hmax = v->hmax, width = hmax - hmin;
+    int j0 = h_cell(t->h_node, t->h_cells, hmin, v->asin_hmin, &f0);
+    int j1 = h_cell(t->h_node, t->h_cells, hmax, v->asin_hmax, &f1);
+    if (width < 1e-9) {
+        add_piece(t, nodes, w, j0, f0, f0, 1.0, rows, q);
+    } else if (j0 == j1) {
+        add_piece(t, nodes, w, j0, f0, f1, 1.0, rows, q);
+    } else {
+        double inv = 1.0 / width;
+        add_piece(t, nodes, w, j0, f0, 1.0, (t->h_node[j0 + 1] - hmin) * inv, rows, q);
+        add_piece(t, nodes, w, j1, 0.0, f1, (hmax - t->h_node[j1]) * inv, rows, q);
+        add_row(rows, j1, inv);
+        add_row(rows, j0 + 1, -inv);
+    }
+}
+
 static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm_fiber_table_query *q)
 {
     q->theta_o = v->theta_o;
@@ -684,26 +740,25 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     int nodes[4];
     double w[4];
     plm_fiber_corners(t->symmetry, t->theta_nodes, t->phi_nodes, t->phi_lo, t->phi_step, ft, v->phi, nodes, w);
-    /* The whole cells j0 + 1 .. j1 - 1 from the rows, the partial cells at
-     * the ends as pieces (add_piece); an interval inside one cell is one
-     * piece, a zero-width one the density at its h. */
-    double f0, f1, hmin = v->hmin, hmax = v->hmax, width = hmax - hmin;
-    int j0 = h_cell(t->h_node, t->h_cells, hmin, v->asin_hmin, &f0);
-    int j1 = h_cell(t->h_node, t->h_cells, hmax, v->asin_hmax, &f1);
     plm_fiber_h_rows rows = {.n = 0};
     q->moving_count = 0;
-    if (width < 1e-9) {
-        add_piece(t, nodes, w, j0, f0, f0, 1.0, &rows, q);
-    } else if (j0 == j1) {
-        add_piece(t, nodes, w, j0, f0, f1, 1.0, &rows, q);
-    } else {
-        double inv = 1.0 / width;
-        add_piece(t, nodes, w, j0, f0, 1.0, (t->h_node[j0 + 1] - hmin) * inv, &rows, q);
-        add_piece(t, nodes, w, j1, 0.0, f1, (hmax - t->h_node[j1]) * inv, &rows, q);
-        add_row(&rows, j1, inv);
-        add_row(&rows, j0 + 1, -inv);
+    if (t->lobe_slots > 0)
+        interval_pieces(t, v, nodes, w, &rows, q);
+    /* The terms of each |theta_o| node (corners 0, 1 and 2, 3), in its own h
+     * cells: without lobe records the interval's rows within them. */
+    q->terms = 0;
+    for (int level = 0; level < 2; ++level) {
+        int it = nodes[2 * level] / t->phi_nodes, local[4];
+        double wl[4];
+        for (int c = 0; c < 4; ++c) {
+            local[c] = nodes[c] % t->phi_nodes;
+            wl[c] = c / 2 == level ? w[c] : 0.0;
+        }
+        if (t->lobe_slots == 0)
+            plm_fiber_interval_rows(bounds_at(t, it), cells_at(t, it), v, &rows);
+        q->terms += plm_fiber_terms(t->data + level_start(t, it), node_floats(t, it), row_floats(t), local, wl,
+                                    &rows, q->term + q->terms, q->coef + q->terms, NULL);
     }
-    q->terms = plm_fiber_terms(t->data, node_floats(t), row_floats(t), nodes, w, &rows, q->term, q->coef, NULL);
     q->rows_total = q->terms > 0 ? fmax(0.0, column_mean(q, t->phi_bins)) : 0.0;
     q->total = q->rows_total;
     for (int i = 0; i < q->moving_count; ++i)

@@ -20,7 +20,7 @@
 #include "render/fiber.h"
 #include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 8
+#define PLM_FIBER_TABLE_VERSION 9
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
@@ -31,6 +31,7 @@ typedef struct plm_fiber_table_options {
     int quiet;             /* 1: no progress on stderr */
     /* Resolution, 0 = the defaults of docs/fiber.md (azimuth bins from beta_n). */
     int theta_nodes, phi_nodes, h_cells, phi_bins;
+    int grazing_nodes, grazing_cells; /* h cells at the last grazing_nodes |theta_o| nodes; -1 nodes: none */
     plm_fiber_medulla_resolution medulla; /* the medulla part's resolution, 0 = defaults */
 } plm_fiber_table_options;
 
@@ -51,8 +52,13 @@ typedef struct plm_fiber_table {
     double theta_max;  /* |theta_o| of the last node; beyond it the last node serves */
     double u_first, u_last; /* nodes are uniform in u(|theta_o|) from u_first to u_last (docs/fiber.md) */
     double phi_lo, phi_step; /* phi_o of node k is phi_lo + k phi_step */
+    /* h cells per |theta_o| node: h_cells, but grazing_cells at the last
+     * grazing_nodes nodes, where the lobes move fastest with h (docs/fiber.md);
+     * only tables without lobe records have grazing nodes. */
+    int grazing_nodes, grazing_cells;
     double *h_node;    /* h_cells + 1 cell bounds, uniform in asin(h) */
-    float *data;       /* per node, rows 0..h_cells, columns 0..phi_bins, (mean of RGB, R, G), then per
+    double *h_node_grazing; /* grazing_cells + 1 (NULL without grazing nodes) */
+    float *data;       /* per node, rows 0..its h cells, columns 0..phi_bins, (mean of RGB, R, G), then per
                         * cell bound the lobe records (Delta_k, A_k RGB) and a flag (docs/fiber.md); then
                         * the medulla part's */
     size_t floats;     /* both parts */

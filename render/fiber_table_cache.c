@@ -20,7 +20,7 @@ typedef struct cache_header {
     char magic[8];
     uint32_t version, header_bytes;
     uint64_t key;
-    int32_t theta_nodes, phi_nodes, h_cells, phi_bins, symmetry, reserved;
+    int32_t theta_nodes, phi_nodes, h_cells, phi_bins, symmetry, grazing_nodes, grazing_cells, reserved;
     int32_t medulla[6]; /* the medulla part's resolution */
     double params[PARAM_WORDS];
     uint64_t floats, checksum;
@@ -76,6 +76,8 @@ static void expected_header(const plm_fiber_table *t, cache_header *h)
     h->h_cells = t->h_cells;
     h->phi_bins = t->phi_bins;
     h->symmetry = t->symmetry;
+    h->grazing_nodes = t->grazing_nodes;
+    h->grazing_cells = t->grazing_cells;
     const plm_fiber_medulla_resolution *r = &t->medulla.res;
     const int32_t medulla[6] = {r->theta_nodes, r->phi_nodes, r->h_cells, r->theta_bins, r->phi_bins, r->directions};
     memcpy(h->medulla, medulla, sizeof medulla);

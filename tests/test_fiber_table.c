@@ -168,6 +168,20 @@ static void medulla_split_matches_trace(void **state)
     assert_true(checked >= 3);
 }
 
+/* The lobe energy over [hmin, hmax] (4000 strata) of a white fiber seen from wo. */
+static double white_energy(const plm_fiber_params *p, vec3 wo, double hmin, double hmax)
+{
+    plm_fiber_lobe lobes[5];
+    double energy = 0.0;
+    const int strata = 4000;
+    for (int s = 0; s < strata; ++s) {
+        int n = plm_fiber_trace(p, wo, hmin + (hmax - hmin) * (s + 0.5) / strata, NULL, lobes);
+        for (int k = 0; k < n; ++k)
+            energy += lobes[k].throughput.g / strata;
+    }
+    return energy;
+}
+
 /* sigma_a = 0, no medulla: the integral of eval cos is the mean lobe energy
  * over the h-interval (from the tracer, 4000 strata), and the pdf integrates
  * to 1; for an elliptical fiber through its mirror symmetries, on a coarse table. */
@@ -181,17 +195,11 @@ static void white_furnace(void **state)
         plm_fiber_table *t = get_table(&p, &o);
         plm_rng rng;
         plm_rng_seed(&rng, 4, (uint64_t)e);
-        plm_fiber_lobe lobes[5];
         for (int q = 0; q < 4; ++q) {
             vec3 wo;
-            double hmin, hmax, energy = 0.0;
+            double hmin, hmax;
             random_query(&rng, &wo, &hmin, &hmax);
-            const int strata = 4000;
-            for (int s = 0; s < strata; ++s) {
-                int n = plm_fiber_trace(&p, wo, hmin + (hmax - hmin) * (s + 0.5) / strata, NULL, lobes);
-                for (int k = 0; k < n; ++k)
-                    energy += lobes[k].throughput.g / strata;
-            }
+            double energy = white_energy(&p, wo, hmin, hmax);
             plm_fiber_bcsdf b;
             plm_fiber_bcsdf_prepare(&p, t, wo, hmin, hmax, &rng, &b);
             double integral, pdf;
@@ -310,6 +318,47 @@ static void moving_lobes_sampling_matches_pdf(void **state)
         double pv = bcsdf_chi_square(&b, &rng, 300000);
         fprintf(stderr, "moving lobes, h in [%.2f, %.2f] (%d moving lobes, %d rows): p-value %.4f\n", interval[i][0],
                 interval[i][1], b.tab.moving_count, b.tab.terms, pv);
+        assert_true(pv > threshold);
+    }
+    plm_fiber_table_free(t);
+}
+
+/* Finer h cells at the grazing |theta_o| nodes (docs/fiber.md): a view
+ * between the last node of the coarse cells and the first of the fine ones
+ * (at a phi_o node), so that a query blends rows of both. For a white
+ * elliptical fiber its eval cos integrates to the two nodes' lobe energies
+ * over the interval blended with the view's weights (each traced, 4000
+ * strata), its pdf to 1, and sampling has the density pdf says. */
+static void grazing_cells_integrate_and_sample(void **state)
+{
+    (void)state;
+    enum { N_TESTS = 2 };
+    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 96);
+    o.grazing_nodes = 2, o.grazing_cells = 96;
+    plm_fiber_params p = white_fiber(0, 1.6);
+    plm_fiber_table *t = get_table(&p, &o);
+    assert_int_equal(t->grazing_nodes, 2);
+    double theta4 = plm_fiber_node_theta(p.eta, t->u_last, t->theta_max, 7, 4);
+    double theta5 = plm_fiber_node_theta(p.eta, t->u_last, t->theta_max, 7, 5), theta = 0.5 * (theta4 + theta5);
+    double f = plm_fiber_theta_coordinate(p.eta, t->u_last, t->theta_max, 7, theta, sin(theta), cos(theta)) - 4.0;
+    const double interval[N_TESTS][2] = {{-0.83, -0.41}, {0.2, 0.26}};
+    plm_rng rng;
+    plm_rng_seed(&rng, 8, 2);
+    for (int i = 0; i < N_TESTS; ++i) {
+        double phi = t->phi_lo + (1 + i) * t->phi_step, hmin = interval[i][0], hmax = interval[i][1];
+        double energy = (1.0 - f) * white_energy(&p, plm_fiber_direction(theta4, phi), hmin, hmax) +
+                        f * white_energy(&p, plm_fiber_direction(theta5, phi), hmin, hmax);
+        plm_fiber_bcsdf b;
+        plm_fiber_bcsdf_prepare(&p, t, plm_fiber_direction(theta, phi), hmin, hmax, NULL, &b);
+        double integral, pdf;
+        furnace_integrals(&b, &integral, &pdf);
+        double pv = bcsdf_chi_square(&b, &rng, 300000);
+        fprintf(stderr, "grazing cells, theta_o %.1f deg (%.2f of the way), h in [%.2f, %.2f]: integral %.5f, "
+                        "blended lobe energy %.5f, pdf %.5f, chi-square p-value %.4f\n",
+                plm_degrees(theta), f, hmin, hmax, integral, energy, pdf, pv);
+        assert_double_near(integral, energy, 2e-3 * energy);
+        assert_double_near(pdf, 1.0, 2e-3);
         assert_true(pv > threshold);
     }
     plm_fiber_table_free(t);
@@ -568,6 +617,7 @@ int main(void)
         cmocka_unit_test(white_furnace_medulla),
         cmocka_unit_test(moving_lobes_sampling_matches_pdf),
         cmocka_unit_test(sampling_matches_pdf),
+        cmocka_unit_test(grazing_cells_integrate_and_sample),
         cmocka_unit_test(tabulated_is_deterministic),
         cmocka_unit_test(cache_hits_misses_and_rebuilds),
         cmocka_unit_test(two_processes_build_at_once),
