@@ -745,7 +745,8 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     if (t->lobe_slots > 0)
         interval_pieces(t, v, nodes, w, &rows, q);
     /* The terms of each |theta_o| node (corners 0, 1 and 2, 3), in its own h
-     * cells: without lobe records the interval's rows within them. */
+     * cells: without lobe records the interval's rows within them (found
+     * again only where the cells change). */
     q->terms = 0;
     for (int level = 0; level < 2; ++level) {
         int it = nodes[2 * level] / t->phi_nodes, local[4];
@@ -754,7 +755,7 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
             local[c] = nodes[c] % t->phi_nodes;
             wl[c] = c / 2 == level ? w[c] : 0.0;
         }
-        if (t->lobe_slots == 0)
+        if (t->lobe_slots == 0 && (level == 0 || grazing(t, it) != grazing(t, it - 1)))
             plm_fiber_interval_rows(bounds_at(t, it), cells_at(t, it), v, &rows);
         q->terms += plm_fiber_terms(t->data + level_start(t, it), node_floats(t, it), row_floats(t), local, wl,
                                     &rows, q->term + q->terms, q->coef + q->terms, NULL);
