@@ -301,10 +301,7 @@ static void moving_lobes_sampling_matches_pdf(void **state)
     enum { N_TESTS = 3 };
     const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
     const double interval[N_TESTS][2] = {{0.01, 0.19}, {-0.62, -0.35}, {0.7, 0.7}};
-    plm_fiber_table_options o = {0};
-    o.no_cache = 1;
-    o.quiet = 1;
-    o.theta_nodes = 7, o.h_cells = 16, o.phi_bins = 96;
+    plm_fiber_table_options o = test_options(NULL, 7, 0, 16, 96);
     plm_fiber_params p;
     plm_fiber_params_figure7(&p, 0);
     plm_fiber_table *t = get_table(&p, &o);
