@@ -227,6 +227,46 @@ static void sampling_matches_pdf(void **state)
     }
 }
 
+/* The same test with the fiber tables (docs/fiber.md) at the views of the
+ * two vertices of the paths that make bench render's close-up fireflies
+ * (docs/rendering.md): the parrot's barb (elliptical, a large blue-green
+ * medulla) seen from above, and the underside of a curled vane seen at
+ * grazing, 1 degree off its plane, from two sides. Small tables: the test
+ * is of sampling against pdf, not of the tables' accuracy. */
+static void tabulated_sampling_matches_pdf_at_grazing_views(void **state)
+{
+    (void)state;
+    enum { N_TESTS = 3 };
+    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    const double views[N_TESTS][3] = {{0.3, 0.2, 0.93}, {0.8, 0.6, -0.02}, {-0.6, 0.8, -0.02}};
+    plm_feather_params p;
+    plm_feather_params_default(&p);
+    p.barb.eccentricity = p.masking.barb_eccentricity = 1.4;
+    p.barb.medulla_a = p.barb.medulla_b = 0.8;
+    p.barb.medulla_reflectance = rgb_make(0.03, 0.75, 0.45);
+    plm_fiber_table_options o = {0};
+    o.no_cache = o.quiet = 1;
+    o.theta_nodes = 7, o.phi_nodes = 6, o.h_cells = 16, o.phi_bins = 96;
+    o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512};
+    plm_error err;
+    if (plm_feather_params_build_tables(&p, &o, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    plm_material m = feather_material(&p, plm_radians(50.0));
+    plm_hit hit = plane_hit(&m);
+    plm_rng rng;
+    plm_rng_seed(&rng, 8, 9);
+    for (int t = 0; t < N_TESTS; ++t) {
+        plm_bsdf b;
+        plm_material_bsdf(&hit, v3_normalize(v3(views[t][0], views[t][1], views[t][2])), &rng, &b);
+        double pv = chi_square(&b, &rng, 300000);
+        fprintf(stderr, "tabulated feather, view %d: chi-square p-value %.4f\n", t, pv);
+        if (!(pv > threshold))
+            fail_msg("chi-square test %d: p-value %.5f below %.5f", t, pv, threshold);
+    }
+    free_material(&m);
+    plm_feather_params_free_tables(&p);
+}
+
 /* The same seed prepares the same BSDF: eval, pdf and samples agree exactly
  * wherever the BSDF is not zero (at directions it samples). Another seed
  * prepares another one (the lobe sets are random), so the agreement is not
@@ -389,6 +429,7 @@ int main(void)
         cmocka_unit_test(pigment_tints_vane_texels),
         cmocka_unit_test(white_furnace_of_the_bsdf),
         cmocka_unit_test(sampling_matches_pdf),
+        cmocka_unit_test(tabulated_sampling_matches_pdf_at_grazing_views),
         cmocka_unit_test(prepared_bsdf_is_reproducible_by_seed),
         cmocka_unit_test(barbule_fibers_lie_in_the_tilted_rows),
         cmocka_unit_test(furnace_scene),
