@@ -126,10 +126,12 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
                                     frame_to_local(&out->fiber_frame[k], wo), range[k]->hmin, range[k]->hmax, rng,
                                     &out->bcsdf[k]);
     }
-    /* Sampling chooses among the components that carry light. */
+    /* Sampling chooses a component by the light it sends back, its weight
+     * times its fiber's energy for wo: the sampled direction's weight, fiber
+     * k's own, then varies little with the choice (plm_feather_sample). */
     double total = 0.0;
     for (int k = 0; k < 3; ++k)
-        total += out->pick[k] = out->bcsdf[k].total > 0.0 ? out->weight[k] : 0.0;
+        total += out->pick[k] = out->bcsdf[k].total > 0.0 ? out->weight[k] * out->bcsdf[k].total : 0.0;
     for (int k = 0; k < 3; ++k)
         out->pick[k] = total > 0.0 ? out->pick[k] / total : 0.0;
 }
@@ -158,39 +160,60 @@ rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
     return rgb_mul(sum, f->tint);
 }
 
+/* Fiber k's sampling density at the world direction wi. */
+static double fiber_pdf(const plm_feather_bsdf *f, int k, vec3 wi)
+{
+    return plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
+}
+
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
 {
     double pdf = 0.0;
     for (int k = 0; k < 3; ++k)
         if (f->pick[k] > 0.0)
-            pdf += f->pick[k] * plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
+            pdf += f->pick[k] * fiber_pdf(f, k, wi);
     return pdf;
 }
 
-int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,
-                       rgb *weight)
+int plm_feather_pick(const plm_feather_bsdf *f, double u, double *remapped)
 {
     const double *w = f->pick;
-    double u = u0;
     int k = 0;
     while (k < 2 && (u >= w[k] || w[k] == 0.0)) {
         u -= w[k];
         ++k;
     }
     if (w[k] <= 0.0)
-        return 0;
-    double remapped = plm_clamp(u / w[k], 0.0, 0x1.fffffffffffffp-1);
+        return -1;
+    *remapped = plm_clamp(u / w[k], 0.0, 0x1.fffffffffffffp-1);
+    return k;
+}
+
+int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,
+                       rgb *weight)
+{
+    double remapped;
+    int k = plm_feather_pick(f, u0, &remapped);
     vec3 local;
-    if (!plm_fiber_bcsdf_sample_direction(&f->bcsdf[k], remapped, u1, u2, &local))
+    if (k < 0 || !plm_fiber_bcsdf_sample_direction(&f->bcsdf[k], remapped, u1, u2, &local))
         return 0;
-    /* The weight and pdf of the world direction, as eval and pdf give them
-     * (the trip to world space and back moves the fiber's direction by
-     * rounding, enough to change the density near the axis or across a
-     * table bin's edge); fiber k's own weight is not needed. */
+    /* The density and fiber k's eval at the world direction, as pdf and eval
+     * give them (the trip to world space and back moves the fiber's direction
+     * by rounding, enough to change the density in the last digits). */
     *wi = frame_to_world(&f->fiber_frame[k], local);
-    rgb f_cos = plm_feather_eval(f, *wi, pdf);
-    if (!(*pdf > 0.0))
+    vec3 lk = frame_to_local(&f->fiber_frame[k], *wi);
+    double pk = 0.0, density = 0.0;
+    rgb s = plm_fiber_bcsdf_eval_pdf(&f->bcsdf[k], lk, &pk);
+    for (int j = 0; j < 3; ++j)
+        if (f->pick[j] > 0.0)
+            density += f->pick[j] * (j == k ? pk : fiber_pdf(f, j, *wi));
+    if (!(density > 0.0) || !(pk > 0.0))
         return 0;
-    *weight = rgb_scale(f_cos, 1.0 / *pdf);
+    *pdf = density;
+    /* eval(wi) / pdf(wi) estimated by fiber k alone: S_k cos / pdf_k times
+     * weight_k / pick_k. Given wi, fiber k was the choice with probability
+     * pick_k pdf_k / pdf, so the estimate's mean is eval / pdf; the other
+     * fibers are not evaluated. */
+    *weight = rgb_mul(rgb_scale(s, fiber_cos_theta(lk) * f->weight[k] / (f->pick[k] * pk)), f->tint);
     return 1;
 }

@@ -7,8 +7,10 @@
  * |wi.n|^-1 of Eq. 4, the cosine-weighted BSDF is
  *   f_s |wi.n| = sum_k w_k(wo) S_k(wi) cos(theta_i,k)        (k = barb, proximal, distal)
  * where S_k is plm_fiber_eval in fiber k's frame. The renderer takes w_t as
- * fractional visibility (render/bsdf.h) and the rest divided by (1 - w_t):
- * component k is then chosen with probability w_k / (1 - w_t). */
+ * fractional visibility (render/bsdf.h) and the rest divided by (1 - w_t).
+ * Sampling chooses component k by the light it sends back, w_k times its
+ * fiber's energy for wo, and evaluates only fiber k at the sampled direction
+ * (plm_feather_sample). */
 #ifndef PLUMAGE_RENDER_FEATHER_BSDF_H
 #define PLUMAGE_RENDER_FEATHER_BSDF_H
 
@@ -65,7 +67,7 @@ typedef struct plm_feather_bsdf {
     frame fiber_frame[3];      /* x = e2, y = e3, z = fiber axis, in world space */
     const plm_fiber_params *fiber[3];
     double weight[3];          /* w_k / (1 - w_t): the components' share of the light that does not pass */
-    double pick[3];            /* sampling probabilities: weight among components whose lobe set carries light */
+    double pick[3];            /* sampling probabilities: weight x energy (bcsdf[k].total), normalised */
     plm_masking masking;       /* for wo, in the barb frame */
     plm_fiber_bcsdf bcsdf[3];
     rgb tint;
@@ -86,7 +88,14 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
  * NULL, plm_feather_pdf(wi) from the same lookups. */
 rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf);
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi);
-/* Chooses a component by weight with u0, then samples its fiber. Returns 0 if nothing can be sampled. */
+/* The component u chooses by pick, and u rescaled to [0, 1) within its
+ * share (for its fiber's sampler); -1 if none carries light. */
+int plm_feather_pick(const plm_feather_bsdf *f, double u, double *remapped);
+/* Chooses a component with u0 (plm_feather_pick), then samples its fiber:
+ * wi, the mixture's pdf(wi) and as weight an estimate of eval(wi) / pdf(wi)
+ * that is unbiased given wi, fiber k's own S_k cos / pdf_k times
+ * weight_k / pick_k, so that only fiber k is evaluated (docs/rendering.md).
+ * Returns 0 if nothing can be sampled. */
 int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,
                        rgb *weight);
 

@@ -1,7 +1,8 @@
 /* The feather BSDF (paper Eq. 4) on its own and in the renderer: the barb
  * frame, a white furnace of its albedo, chi-square of sample against pdf,
- * sample weights, transmission as fractional visibility (transparent shadows
- * against stochastic passing) and a furnace scene. */
+ * sample weights (the chosen fiber's, unbiased for the mixture's),
+ * transmission as fractional visibility (transparent shadows against
+ * stochastic passing) and a furnace scene. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -309,6 +310,74 @@ static void prepared_bsdf_is_reproducible_by_seed(void **state)
     free_material(&m);
 }
 
+/* A sampled direction's weight is fiber k's own S_k cos / pdf_k times
+ * weight_k / pick_k, an estimate of eval / pdf that is unbiased given wi:
+ * so the mean weight over each hemisphere of the barb frame's normal must be
+ * the integral of eval over it (uniform Monte Carlo), z-tests at 4.2
+ * standard errors (8 tests, false alarm 2e-4 in all). Stochastic and
+ * tabulated fibers (small tables), two views and barbule layouts each. The
+ * test can fail: the same samples weighted as if pick were uniform over the
+ * fibers (a wrong pick_k in the weight) are rejected in every case. */
+static void sampled_weights_estimate_the_mixture(void **state)
+{
+    (void)state;
+    enum { N = 200000 };
+    plm_rng rng;
+    plm_rng_seed(&rng, 41, 7);
+    int wrong_caught = 0;
+    for (int t = 0; t < 4; ++t) {
+        plm_feather_params p;
+        plm_feather_params_default(&p);
+        if (t % 2)
+            p.masking.barbule_inclination = plm_radians(30.0), p.masking.barbule_separation = 0.4;
+        plm_fiber_table_options o = {0};
+        o.no_cache = o.quiet = 1;
+        o.theta_nodes = 5, o.phi_nodes = 4, o.h_cells = 8, o.phi_bins = 64;
+        o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512};
+        plm_error err;
+        if (t < 2)
+            p.bcsdf = PLM_BCSDF_STOCHASTIC;
+        else if (plm_feather_params_build_tables(&p, &o, &err) != PLM_OK)
+            fail_msg("%s", err.message);
+        plm_material m = feather_material(&p, plm_radians(40.0 + 25.0 * t));
+        plm_hit hit = plane_hit(&m);
+        plm_bsdf b;
+        plm_material_bsdf(&hit, v3_normalize(t % 2 ? v3(-0.4, 0.3, 0.7) : v3(0.3, -0.5, 0.6)), &rng, &b);
+        const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
+        double carrying = (f->pick[0] > 0.0) + (f->pick[1] > 0.0) + (f->pick[2] > 0.0);
+        for (int side = 0; side < 2; ++side) {
+            double sum = 0.0, sum2 = 0.0, wrong = 0.0, wrong2 = 0.0, integral = 0.0, integral2 = 0.0;
+            for (int i = 0; i < N; ++i) {
+                double u0 = plm_rng_uniform(&rng), u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng), r;
+                plm_bsdf_sample_rec rec;
+                if (plm_bsdf_sample(&b, u0, u1, u2, &rec) && (v3_dot(rec.wi, hit.n) > 0.0) == (side == 0)) {
+                    double v = rgb_mean(rec.weight), x = v * f->pick[plm_feather_pick(f, u0, &r)] * carrying;
+                    sum += v, sum2 += v * v, wrong += x, wrong2 += x * x;
+                }
+                vec3 w = plm_sample_uniform_sphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
+                int here = (v3_dot(w, hit.n) > 0.0) == (side == 0);
+                double e = here ? rgb_mean(plm_bsdf_eval(&b, w)) * 4.0 * PLM_PI : 0.0;
+                integral += e, integral2 += e * e;
+            }
+            estimate est = {sum / N, sqrt(fmax(sum2 / N - plm_sqr(sum / N), 0.0) / N)};
+            estimate bad = {wrong / N, sqrt(fmax(wrong2 / N - plm_sqr(wrong / N), 0.0) / N)};
+            estimate ref = {integral / N, sqrt(fmax(integral2 / N - plm_sqr(integral / N), 0.0) / N)};
+            double z = fabs(est.mean - ref.mean) / sqrt(plm_sqr(est.se) + plm_sqr(ref.se));
+            double zw = fabs(bad.mean - ref.mean) / sqrt(plm_sqr(bad.se) + plm_sqr(ref.se));
+            fprintf(stderr, "case %d, %s side: mean weight %.5f +- %.5f, integral of eval %.5f +- %.5f (z %.2f); "
+                            "uniform pick %.5f (z %.1f)\n",
+                    t, side ? "lower" : "upper", est.mean, est.se, ref.mean, ref.se, z, bad.mean, zw);
+            if (z > 4.2)
+                fail_msg("case %d side %d: mean weight %.5f +- %.5f, integral %.5f +- %.5f", t, side, est.mean, est.se,
+                         ref.mean, ref.se);
+            wrong_caught += side == 0 && zw > 4.2;
+        }
+        plm_feather_params_free_tables(m.feather);
+        free_material(&m);
+    }
+    assert_int_equal(wrong_caught, 4);
+}
+
 /* ---------- the feather in scenes ---------- */
 
 /* The BSDF's masking and barbule fiber frames are the masking model's, in
@@ -431,6 +500,7 @@ int main(void)
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(tabulated_sampling_matches_pdf_at_grazing_views),
         cmocka_unit_test(prepared_bsdf_is_reproducible_by_seed),
+        cmocka_unit_test(sampled_weights_estimate_the_mixture),
         cmocka_unit_test(barbule_fibers_lie_in_the_tilted_rows),
         cmocka_unit_test(furnace_scene),
         cmocka_unit_test(feather_shadows_agree_with_stochastic_passing),

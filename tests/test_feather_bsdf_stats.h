@@ -103,9 +103,10 @@ static int grid_cell(const frame *f, vec3 w)
 
 /* Histogram of plm_bsdf_sample over a (theta, phi) grid of the barb frame
  * against the pdf integrated over each cell by an 8x8 midpoint rule (pbrt-v4's
- * test); also checks each sample's weight and pdf, and that the pdf is the
- * pick-weighted mixture of the three fibers' pdfs. Returns the p-value of
- * Pearson's chi-square. */
+ * test); also checks each sample's pdf, that the pdf is the pick-weighted
+ * mixture of the three fibers' pdfs and that the weight is the chosen fiber's
+ * own (its mean is tested by the feather's weight test). Returns the p-value
+ * of Pearson's chi-square. */
 static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
 {
     static double observed[THETA_BINS * PHI_BINS], expected[THETA_BINS * PHI_BINS];
@@ -115,16 +116,21 @@ static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
     const frame f = fb->fiber_frame[PLM_FEATHER_BARB];
     for (int s = 0; s < n; ++s) {
         plm_bsdf_sample_rec rec;
-        if (!plm_bsdf_sample(b, plm_rng_uniform(rng), plm_rng_uniform(rng), plm_rng_uniform(rng), &rec))
+        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng), unused;
+        if (!plm_bsdf_sample(b, u0, u1, u2, &rec))
             continue;
         double pdf = plm_bsdf_pdf(b, rec.wi), mix = 0.0;
         for (int k = 0; k < 3; ++k)
             if (fb->pick[k] > 0.0)
                 mix += fb->pick[k] * plm_fiber_bcsdf_pdf(&fb->bcsdf[k], frame_to_local(&fb->fiber_frame[k], rec.wi));
-        rgb e = plm_bsdf_eval(b, rec.wi);
         assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
         assert_true(fabs(mix - pdf) <= 1e-12 * pdf);
-        assert_true(fabs(rec.weight.r - e.r / pdf) <= 1e-9 * rec.weight.r + 1e-300);
+        /* The weight is the chosen fiber's own S_k cos / pdf_k times weight_k / pick_k. */
+        int k = plm_feather_pick(fb, u0, &unused);
+        vec3 l = frame_to_local(&fb->fiber_frame[k], rec.wi);
+        double pk, own = plm_fiber_bcsdf_eval_pdf(&fb->bcsdf[k], l, &pk).r * sqrt(l.x * l.x + l.y * l.y) / pk *
+                         fb->weight[k] / fb->pick[k];
+        assert_true(fabs(rec.weight.r - own) <= 1e-9 * own + 1e-300);
         observed[grid_cell(&f, rec.wi)] += 1.0;
     }
     const double dt = PLM_PI / THETA_BINS, df = PLM_TWO_PI / PHI_BINS;
