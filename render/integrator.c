@@ -46,15 +46,16 @@ double plm_shadow_transmittance(const plm_world *w, vec3 o, vec3 d, double dist,
 }
 
 /* Radiance an escaped or light-hitting ray brings back, MIS-weighted
- * against light sampling from the previous vertex when that could have found it. */
+ * against light sampling from the previous vertex when that could have found
+ * it; known_pdf, if not NULL, is the light's density of d (plm_light_pdf). */
 static rgb emission_weight(const plm_world *w, int light, rgb le, vec3 prev_p, vec3 d, double prev_pdf,
-                           int counted_fully, plm_estimator est)
+                           int counted_fully, plm_estimator est, const double *known_pdf)
 {
     if (counted_fully || est == PLM_ESTIMATOR_BSDF)
         return le;
     if (est == PLM_ESTIMATOR_NEE)
         return rgb_gray(0.0);
-    double light_pdf = plm_light_pdf(&w->lights[light], prev_p, d) / w->light_count;
+    double light_pdf = (known_pdf ? *known_pdf : plm_light_pdf(&w->lights[light], prev_p, d)) / w->light_count;
     return rgb_scale(le, plm_power_heuristic(prev_pdf, light_pdf));
 }
 
@@ -123,15 +124,16 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         segment_end end =
             trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, seed, more.x, &seg, rays);
         if (end == END_LIGHT) {
-            rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est);
+            rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est, NULL);
             radiance = rgb_add(radiance, rgb_mul(beta, le));
             break;
         }
         if (end == END_ESCAPED) {
             for (int i = 0; i < w->light_count; ++i)
                 if (plm_light_is_infinite(&w->lights[i])) {
-                    rgb le = plm_light_environment(&w->lights[i], d);
-                    le = emission_weight(w, i, le, prev_p, d, prev_pdf, depth == 0, est);
+                    double pdf; /* the radiance's lookup gives the density MIS needs */
+                    rgb le = plm_light_environment(&w->lights[i], d, &pdf);
+                    le = emission_weight(w, i, le, prev_p, d, prev_pdf, depth == 0, est, &pdf);
                     radiance = rgb_add(radiance, rgb_mul(beta, le));
                 }
             break;

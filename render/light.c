@@ -89,30 +89,33 @@ static void envmap_texel(const plm_image *im, vec2 uv, int *x, int *y)
     *y = *y < 0 ? 0 : (*y >= im->height ? im->height - 1 : *y);
 }
 
-rgb plm_light_environment(const plm_render_light *l, vec3 d)
+/* Density over the sphere of texel (x, y) at sin(theta): p(u, v) / (2 pi^2 sin theta),
+ * p(u, v) = pmf(texel) * width * height. */
+static double envmap_texel_pdf(const plm_envmap *env, int x, int y, double sin_theta)
 {
-    const plm_light *desc = l->desc;
-    if (desc->type == PLM_LIGHT_CONSTANT_ENV)
-        return desc->radiance;
-    int x, y;
-    envmap_texel(&desc->image, plm_envmap_uv(desc->rotation, d), &x, &y);
-    return rgb_mul(desc->radiance, texel_rgb(&desc->image, x, y));
-}
-
-/* Density over the sphere: p(u, v) / (2 pi^2 sin theta), p(u, v) = pmf(texel) * width * height. */
-static double envmap_pdf(const plm_envmap *env, double rotation, vec3 d)
-{
-    if (env->marginal.total <= 0.0)
-        return 0.0;
-    vec2 uv = plm_envmap_uv(rotation, d);
-    int x, y;
-    envmap_texel(env->image, uv, &x, &y);
-    double sin_theta = sin(PLM_PI * uv.y);
-    if (sin_theta <= 0.0)
+    if (env->marginal.total <= 0.0 || sin_theta <= 0.0)
         return 0.0;
     double p = plm_distribution1d_pmf(&env->marginal, y) * plm_distribution1d_pmf(&env->conditional[y], x) *
                (double)env->image->width * env->image->height;
     return p / (2.0 * PLM_PI * PLM_PI * sin_theta);
+}
+
+rgb plm_light_environment(const plm_render_light *l, vec3 d, double *pdf)
+{
+    const plm_light *desc = l->desc;
+    if (desc->type == PLM_LIGHT_CONSTANT_ENV) {
+        if (pdf)
+            *pdf = 1.0 / (4.0 * PLM_PI);
+        return desc->radiance;
+    }
+    /* One direction -> (u, v) for the radiance and the density: its atan2
+     * and acos are most of a lookup. */
+    vec2 uv = plm_envmap_uv(desc->rotation, d);
+    int x, y;
+    envmap_texel(&desc->image, uv, &x, &y);
+    if (pdf)
+        *pdf = envmap_texel_pdf(&l->env, x, y, sin(PLM_PI * uv.y));
+    return rgb_mul(desc->radiance, texel_rgb(&desc->image, x, y));
 }
 
 /* Cone of directions subtended by a sphere seen from outside (pbrt's uniform cone). */
@@ -155,8 +158,10 @@ int plm_light_sample_from(const plm_render_light *l, vec3 p, double u1, double u
         int x = plm_distribution1d_sample(&env->conditional[y], u2, &ru);
         vec2 uv = v2((x + ru) / env->image->width, (y + rv) / env->image->height);
         s->wi = plm_envmap_direction(desc->rotation, uv);
-        s->radiance = plm_light_environment(l, s->wi);
-        s->pdf = envmap_pdf(env, desc->rotation, s->wi);
+        /* The sampled texel's radiance and density, which a lookup of wi finds
+         * again but for rounding at the texel's edges. */
+        s->radiance = rgb_mul(desc->radiance, texel_rgb(env->image, x, y));
+        s->pdf = envmap_texel_pdf(env, x, y, sin(PLM_PI * uv.y));
         return s->pdf > 0.0;
     }
     case PLM_LIGHT_DISTANT:
@@ -239,8 +244,11 @@ double plm_light_pdf(const plm_render_light *l, vec3 p, vec3 wi)
     switch (desc->type) {
     case PLM_LIGHT_CONSTANT_ENV:
         return 1.0 / (4.0 * PLM_PI);
-    case PLM_LIGHT_ENV_MAP:
-        return envmap_pdf(&l->env, desc->rotation, wi);
+    case PLM_LIGHT_ENV_MAP: {
+        double pdf;
+        plm_light_environment(l, wi, &pdf);
+        return pdf;
+    }
     case PLM_LIGHT_DISTANT:
         return 0.0;
     case PLM_LIGHT_SPHERE: {

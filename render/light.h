@@ -45,8 +45,9 @@ int plm_light_sample_from(const plm_render_light *l, vec3 p, double u1, double u
 /* Solid-angle density of plm_light_sample_from for the direction wi from p (0 for delta lights). */
 double plm_light_pdf(const plm_render_light *l, vec3 p, vec3 wi);
 
-/* Radiance toward -d of an infinite light (constant or env map) seen along d. */
-rgb plm_light_environment(const plm_render_light *l, vec3 d);
+/* Radiance toward -d of an infinite light (constant or env map) seen along d,
+ * and if pdf is not NULL plm_light_pdf of d from the same lookup. */
+rgb plm_light_environment(const plm_render_light *l, vec3 d, double *pdf);
 static inline int plm_light_is_infinite(const plm_render_light *l)
 {
     return l->desc->type == PLM_LIGHT_CONSTANT_ENV || l->desc->type == PLM_LIGHT_ENV_MAP;
