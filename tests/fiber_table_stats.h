@@ -65,38 +65,64 @@ static vec3 random_sphere(plm_rng *rng)
     return plm_fiber_direction(asin(2.0 * plm_rng_uniform(rng) - 1.0), PLM_TWO_PI * plm_rng_uniform(rng));
 }
 
+/* The radical inverse of i in base b: i's digits mirrored about the point. */
+static double radical_inverse(unsigned i, unsigned b)
+{
+    double x = 0.0, scale = 1.0 / b;
+    for (; i > 0; i /= b, scale /= b)
+        x += (i % b) * scale;
+    return x;
+}
+
 /* The converged stochastic mean of the medulla's part, written apart from
- * the table: `sets` lobe sets traced at h uniform in [hmin, hmax] with random
- * medulla bounces (the stochastic estimator), each set's lobes that met the
- * medulla evaluated at every wi[i] with the detectors above (G_N's wraps
- * beyond one turn dropped: below e^-100 for beta_n < 0.6 rad). mean[i] is
- * the mean over the sets, var[i] the variance of that mean (unbiased, from
- * the sets' spread). */
+ * the table: the stochastic estimator's paths (plm_fiber_trace_to_medulla,
+ * then plm_fiber_trace_from_medulla with the lobes left, which
+ * test_fiber_table checks against plm_fiber_trace), `sets` of them, each's
+ * lobes evaluated at every wi[i] with the detectors above (G_N's wraps
+ * beyond one turn dropped: below e^-100 for beta_n < 0.6 rad). The entry
+ * offset h and the first diffuse direction come from a randomised
+ * quasi-Monte Carlo set: the Halton points in bases 2, 3 and 5, shifted
+ * modulo 1 by a random vector, SHIFTS times (later bounces are random).
+ * A wi sees light from few directions only, so random sets leave it noisy;
+ * the points spread evenly over (h, direction) cut that noise several times
+ * at the same cost. mean[i] is the mean over the shifts, var[i] the
+ * variance of that mean (unbiased, from the shifts' spread). */
 static void reference_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, const vec3 *wi, int n,
                               int sets, plm_rng *rng, rgb *mean, rgb *var)
 {
+    enum { SHIFTS = 16 };
+    int per = sets / SHIFTS;
     plm_fiber_lobe *lobes = malloc(sizeof *lobes * (size_t)p->lobes);
     double *sum = calloc(6 * (size_t)n, sizeof(double)), *x = malloc(3 * sizeof(double) * (size_t)n);
-    for (int s = 0; s < sets; ++s) {
-        double h = hmin + (hmax - hmin) * plm_rng_uniform(rng);
-        int m = plm_fiber_trace(p, wo, h, rng, lobes);
+    for (int r = 0; r < SHIFTS; ++r) {
+        double shift[3] = {plm_rng_uniform(rng), plm_rng_uniform(rng), plm_rng_uniform(rng)};
         for (int i = 0; i < 3 * n; ++i)
             x[i] = 0.0;
-        for (int k = 0; k < m; ++k) {
-            if (!lobes[k].medulla)
+        for (int s = 0; s < per; ++s) {
+            double u[3];
+            for (int d = 0; d < 3; ++d) {
+                u[d] = radical_inverse((unsigned)s, d == 0 ? 2 : d == 1 ? 3 : 5) + shift[d];
+                u[d] -= floor(u[d]);
+            }
+            plm_fiber_medulla_hit hit;
+            if (!plm_fiber_trace_to_medulla(p, wo, hmin + (hmax - hmin) * u[0], lobes, &hit))
                 continue;
-            double Theta = asin(lobes[k].dir.z), Phi = atan2(lobes[k].dir.y, lobes[k].dir.x);
-            for (int i = 0; i < n; ++i) {
-                double ct = sqrt(wi[i].x * wi[i].x + wi[i].y * wi[i].y), theta = atan2(wi[i].z, ct);
-                if (fabs(theta - Theta) > 12.0 * p->beta_m)
-                    continue; /* below e^-72 */
-                double dphi = remainder(atan2(wi[i].y, wi[i].x) - Phi, PLM_TWO_PI), gn = 0.0;
-                for (int w = -1; w <= 1; ++w)
-                    gn += exp(-0.5 * plm_sqr((dphi + PLM_TWO_PI * w) / p->beta_n));
-                double d = reference_gm(p->beta_m, Theta, theta) * gn / (sqrt(2.0 * PLM_PI) * p->beta_n * ct * ct);
-                x[3 * i] += lobes[k].throughput.r * d;
-                x[3 * i + 1] += lobes[k].throughput.g * d;
-                x[3 * i + 2] += lobes[k].throughput.b * d;
+            int m = plm_fiber_trace_from_medulla(p, hit.t, u[1], u[2], rng, lobes, p->lobes - hit.lobes);
+            for (int k = 0; k < m; ++k) {
+                rgb A = rgb_mul(hit.throughput, lobes[k].throughput);
+                double Theta = asin(lobes[k].dir.z), Phi = atan2(lobes[k].dir.y, lobes[k].dir.x);
+                for (int i = 0; i < n; ++i) {
+                    double ct = sqrt(wi[i].x * wi[i].x + wi[i].y * wi[i].y), theta = atan2(wi[i].z, ct);
+                    if (fabs(theta - Theta) > 12.0 * p->beta_m)
+                        continue; /* below e^-72 */
+                    double dphi = remainder(atan2(wi[i].y, wi[i].x) - Phi, PLM_TWO_PI), gn = 0.0;
+                    for (int w = -1; w <= 1; ++w)
+                        gn += exp(-0.5 * plm_sqr((dphi + PLM_TWO_PI * w) / p->beta_n));
+                    double d = reference_gm(p->beta_m, Theta, theta) * gn / (sqrt(2.0 * PLM_PI) * p->beta_n * ct * ct);
+                    x[3 * i] += A.r * d / per;
+                    x[3 * i + 1] += A.g * d / per;
+                    x[3 * i + 2] += A.b * d / per;
+                }
             }
         }
         for (int i = 0; i < 3 * n; ++i) {
@@ -107,8 +133,8 @@ static void reference_medulla(const plm_fiber_params *p, vec3 wo, double hmin, d
     for (int i = 0; i < n; ++i) {
         double m[3], v[3];
         for (int c = 0; c < 3; ++c) {
-            m[c] = sum[2 * (3 * i + c)] / sets;
-            v[c] = fmax(0.0, sum[2 * (3 * i + c) + 1] / sets - m[c] * m[c]) / (sets - 1);
+            m[c] = sum[2 * (3 * i + c)] / SHIFTS;
+            v[c] = fmax(0.0, sum[2 * (3 * i + c) + 1] / SHIFTS - m[c] * m[c]) / (SHIFTS - 1);
         }
         mean[i] = rgb_make(m[0], m[1], m[2]);
         var[i] = rgb_make(v[0], v[1], v[2]);
