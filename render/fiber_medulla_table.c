@@ -56,10 +56,16 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
         return; /* no lobe can follow a medulla bounce */
     /* The part is smooth in theta_i and phi_i but not in h (where paths
      * start or stop meeting the medulla) nor in phi_o for an elliptical
-     * cortex (docs/fiber.md has the errors): h cells and phi_o nodes take
-     * the memory. */
-    int round_fiber = symmetry == PLM_FIBER_TABLE_ROTATIONAL;
-    plm_fiber_medulla_resolution d = {round_fiber ? 13 : 7, 1, round_fiber ? 48 : 32, 12, 24, 4096};
+     * cortex (docs/fiber.md has the errors). A rotationally symmetric fiber
+     * has one phi_o node, and its error is mostly the |theta_i| bands'
+     * linear interpolation: 24 bands (3.75 deg) halve it against 12. Where
+     * the phi_o nodes must cover half the circle or all of it, blending
+     * them is the error by far, and 5 |theta_o| nodes and 6 bands (15 deg)
+     * leave room for three times the phi_o nodes. With both mirrors 12
+     * bands and 7 nodes do best. */
+    int round_fiber = symmetry == PLM_FIBER_TABLE_ROTATIONAL, wide = !round_fiber && symmetry != PLM_FIBER_TABLE_MIRROR_XY;
+    plm_fiber_medulla_resolution d = {round_fiber ? 13 : wide ? 5 : 7, 1, round_fiber ? 48 : 32,
+                                      round_fiber ? 24 : wide ? 6 : 12, 24, 4096};
     m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
     m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
     m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d.theta_bins;
@@ -67,7 +73,7 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->res.directions = r && r->directions > 0 ? r->directions : d.directions;
     size_t node_bytes = sizeof(float) * node_floats(m);
     int fit = (int)(PLM_FIBER_MEDULLA_BUDGET / (node_bytes * (size_t)m->res.theta_nodes));
-    m->res.phi_nodes = round_fiber ? 1 : r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 13 ? 13 : fit;
+    m->res.phi_nodes = round_fiber ? 1 : r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 40 ? 40 : fit;
     m->symmetry = symmetry;
     m->theta_max = plm_radians(89.0);
     m->eta = p->eta;
