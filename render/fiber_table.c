@@ -101,17 +101,25 @@ double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nod
     return k == 0 ? 0.0 : k == nodes - 1 ? theta_max : 0.5 * (lo + hi);
 }
 
-/* The node coordinate (0 .. theta_nodes - 1) of |theta_o| in [0, theta_max],
- * given with its sine and cosine. */
+/* The node coordinate (0 .. theta_nodes - 1) of |theta_o| in [0, pi/2],
+ * given with its sine and cosine. A limit node is reached linearly in u
+ * from theta_max: the internal lobes' energies fall about in proportion to
+ * cos(theta_o), hence to u, toward grazing views (docs/fiber.md). */
 static double theta_coordinate(const plm_fiber_table *t, double theta, double sin_theta, double cos_theta)
 {
-    return plm_fiber_theta_coordinate(t->params.eta, t->u_last, t->theta_max, t->theta_nodes, theta, sin_theta,
-                                      cos_theta);
+    int placed = t->theta_nodes - t->limit_node; /* the nodes over [0, theta_max] */
+    if (theta < t->theta_max || !t->limit_node)
+        return plm_fiber_theta_coordinate(t->params.eta, t->u_last, t->theta_max, placed, theta, sin_theta,
+                                          cos_theta);
+    double u = inverse_index(t->params.eta, sin_theta, cos_theta);
+    return placed - 1.0 + plm_clamp((t->u_last - u) / (t->u_last - t->u_limit), 0.0, 1.0);
 }
 
 static double node_theta(const plm_fiber_table *t, int k)
 {
-    return plm_fiber_node_theta(t->params.eta, t->u_last, t->theta_max, t->theta_nodes, k);
+    int placed = t->theta_nodes - t->limit_node;
+    return k < placed ? plm_fiber_node_theta(t->params.eta, t->u_last, t->theta_max, placed, k)
+                      : PLM_FIBER_THETA_LIMIT;
 }
 
 void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step)
@@ -147,7 +155,11 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     int bins = (int)ceil((round_fiber ? 4.0 : 2.0) * PLM_TWO_PI / p->beta_n);
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;
-    t->theta_nodes = o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 40 : 12;
+    /* A circular table also has a node next to grazing views, past theta_max
+     * (without it, the 89 deg node served every view beyond and was 3% off
+     * at 89.3 deg); elliptical ones measured no better with it (docs/fiber.md). */
+    t->limit_node = round_fiber;
+    t->theta_nodes = (o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 40 : 12) + t->limit_node;
     t->lobe_slots = round_fiber ? p->lobes : 0;
     size_t row_bytes = sizeof(float) * bound_floats(t);
     int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
@@ -168,6 +180,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     t->theta_max = plm_radians(89.0);
     t->u_first = 1.0 / p->eta;
     t->u_last = plm_fiber_theta_u(p->eta, t->theta_max);
+    t->u_limit = plm_fiber_theta_u(p->eta, PLM_FIBER_THETA_LIMIT);
     t->phi_nodes = 1;
     int nodes = (int)(budget / (sizeof(float) * level_start(t, t->theta_nodes)));
     nodes = o && o->phi_nodes > 0 ? o->phi_nodes : nodes;
@@ -735,8 +748,7 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     q->phi_o = v->phi_o;
     q->flip = v->flip;
     q->gm_scale = plm_fiber_gm_scale(t->params.beta_m, -q->theta_o);
-    double ft = fabs(q->theta_o) < t->theta_max ? theta_coordinate(t, fabs(q->theta_o), v->sin_theta, v->cos_theta)
-                                                : t->theta_nodes - 1.0;
+    double ft = theta_coordinate(t, fabs(q->theta_o), v->sin_theta, v->cos_theta);
     int nodes[4];
     double w[4];
     plm_fiber_corners(t->symmetry, t->theta_nodes, t->phi_nodes, t->phi_lo, t->phi_step, ft, v->phi, nodes, w);

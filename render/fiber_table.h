@@ -20,7 +20,9 @@
 #include "render/fiber.h"
 #include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 10
+#define PLM_FIBER_TABLE_VERSION 11
+/* |theta_o| of a table's limit node (plm_fiber_table.limit_node). */
+#define PLM_FIBER_THETA_LIMIT (89.9 * PLM_PI / 180.0)
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
 
@@ -29,7 +31,8 @@ typedef struct plm_fiber_table_options {
     const char *cache_dir; /* NULL: $PLUMAGE_CACHE_DIR, else $XDG_CACHE_HOME/plumage, else $HOME/.cache/plumage */
     int no_cache;          /* 1: neither read nor write the disk cache */
     int quiet;             /* 1: no progress on stderr */
-    /* Resolution, 0 = the defaults of docs/fiber.md (azimuth bins from beta_n). */
+    /* Resolution, 0 = the defaults of docs/fiber.md (azimuth bins from beta_n);
+     * theta_nodes over [0, 89 deg], to which a circular table adds its limit node. */
     int theta_nodes, phi_nodes, h_cells, phi_bins;
     int grazing_nodes, grazing_cells; /* h cells at the last grazing_nodes |theta_o| nodes; -1 nodes: none */
     plm_fiber_medulla_resolution medulla; /* the medulla part's resolution, 0 = defaults */
@@ -49,8 +52,11 @@ typedef struct plm_fiber_table {
     int theta_nodes, phi_nodes, h_cells, phi_bins, symmetry;
     int lobe_slots;    /* lobe records per node and h cell bound, by the lobes' wall hits: p->lobes for a
                         * rotationally symmetric fiber, else none (docs/fiber.md) */
-    double theta_max;  /* |theta_o| of the last node; beyond it the last node serves */
+    double theta_max;  /* |theta_o| of the last node placed by u; beyond it the last node serves */
     double u_first, u_last; /* nodes are uniform in u(|theta_o|) from u_first to u_last (docs/fiber.md) */
+    int limit_node;    /* 1: the last of theta_nodes sits past theta_max at PLM_FIBER_THETA_LIMIT, next to
+                        * grazing, and views between are interpolated linearly in u (circular tables) */
+    double u_limit;    /* u there */
     double phi_lo, phi_step; /* phi_o of node k is phi_lo + k phi_step */
     /* h cells per |theta_o| node: h_cells, but grazing_cells at the last
      * grazing_nodes nodes, where the lobes move fastest with h (docs/fiber.md);
