@@ -87,13 +87,21 @@ plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
     if (m->res.theta_nodes == 0)
         return PLM_OK;
     m->h_node = plm_fiber_h_nodes(m->res.h_cells);
-    return m->h_node ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
+    m->band_scale = malloc(sizeof(double) * (size_t)m->res.theta_bins);
+    if (!m->h_node || !m->band_scale)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
+    double w = HALF_PI / m->res.theta_bins;
+    for (int a = 0; a < m->res.theta_bins; ++a)
+        m->band_scale[a] = w / (sin((a + 1) * w) - sin(a * w));
+    return PLM_OK;
 }
 
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m)
 {
     free(m->h_node);
+    free(m->band_scale);
     m->h_node = NULL;
+    m->band_scale = NULL;
 }
 
 /* ---- building ------------------------------------------------------------ */
@@ -591,8 +599,11 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
     double phi = wrap_pi(q->origin + angles[1]);
     /* Bin centres around wi: below band 0's centre the density is flat (the
      * mirror image of band 0 is itself); beyond the last band's it is
-     * extrapolated linearly, as the density falls toward the poles, where
-     * eval's 1 / cos^2 magnifies it; columns wrap. The bin holding wi, the
+     * extrapolated linearly; columns wrap. What is interpolated is each
+     * bin's density per solid angle (its mass over the integral of
+     * cos(theta) across it), which stays finite toward the poles, where
+     * the mass per unit theta falls like cos(theta) and eval's
+     * 1 / cos^2(theta_i) magnifies any error in it. The bin holding wi, the
      * pdf's, is one of the four. */
     double xa = theta / wa - 0.5, xc = (phi + PLM_PI) / wc - 0.5, flc = floor(xc);
     int a0 = xa < 0.0 ? 0 : (int)xa, c0 = ((int)flc + cols) % cols, c1 = (c0 + 1) % cols;
@@ -606,7 +617,8 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         for (int ch = 0; ch < 3; ++ch) {
             double lo0 = col[0][1][ch] - col[0][0][ch], lo1 = col[0][3][ch] - col[0][2][ch];
             double hi0 = col[1][1][ch] - col[1][0][ch], hi1 = col[1][3][ch] - col[1][2][ch];
-            v[ch] = positive(((lo0 + (lo1 - lo0) * fc) * (1.0 - fa) + (hi0 + (hi1 - hi0) * fc) * fa) / (area * ct * ct));
+            double lo = (lo0 + (lo1 - lo0) * fc) * m->band_scale[a0], hi = (hi0 + (hi1 - hi0) * fc) * m->band_scale[a0 + 1];
+            v[ch] = positive((lo * (1.0 - fa) + hi * fa) / (area * ct));
         }
         *f = rgb_make(v[0], v[1], v[2]);
         const double(*x)[3] = col[in_a - a0] + 2 * in_c;

@@ -39,6 +39,7 @@ typedef struct plm_fiber_medulla_table {
     double theta_max, eta, u_last; /* theta_o nodes as the other part's (render/fiber_table.h) */
     double phi_lo, phi_step;
     double *h_node; /* h_cells + 1 cell bounds */
+    double *band_scale; /* per |theta_i| band, its width over the integral of cos(theta) across it */
     float *data;    /* per node, rows 0..h_cells, each: bands 0..theta_bins-1 of columns 0..phi_bins,
                      * then each band's total, RGB; points into the fiber table's data */
     size_t floats;
@@ -49,7 +50,7 @@ typedef struct plm_fiber_medulla_table {
  * floats, given the fiber table's symmetry; r overrides the defaults. */
 void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
                               plm_fiber_medulla_table *m);
-/* The h cell bounds (data is the caller's). */
+/* The h cell bounds and the bands' scales (data is the caller's). */
 plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err);
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
 /* Fills m->data (deterministically) on the threads of o, a
@@ -82,9 +83,9 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
                                plm_fiber_medulla_query *q);
 /* At wi given by its angles in the table's orientation (theta_i, delta =
  * phi_i - phi_o, mirrored when the view is, cos(theta_i)): eval into *f (if
- * not NULL), the bin densities interpolated bilinearly between bin centres,
- * over cos^2(theta_i); and the sampler's piecewise-constant solid-angle
- * density into *pdf. */
+ * not NULL), the bins' densities per solid angle interpolated bilinearly
+ * between bin centres, over cos(theta_i); and the sampler's
+ * piecewise-constant solid-angle density into *pdf. */
 void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf);
 /* A view node by its energy and a |theta_i| band by its mass in that node
  * (u0), the sign of theta_i and the position in the band (u1), a phi_i bin
