@@ -131,8 +131,10 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         if (end == END_ESCAPED) {
             for (int i = 0; i < w->light_count; ++i)
                 if (plm_light_is_infinite(&w->lights[i])) {
-                    double pdf; /* the radiance's lookup gives the density MIS needs */
-                    rgb le = plm_light_environment(&w->lights[i], d, &pdf);
+                    /* The radiance's lookup gives the density MIS needs, when it does. */
+                    double pdf = 0.0;
+                    int weighted = depth > 0 && est == PLM_ESTIMATOR_MIS;
+                    rgb le = plm_light_environment(&w->lights[i], d, weighted ? &pdf : NULL);
                     le = emission_weight(w, i, le, prev_p, d, prev_pdf, depth == 0, est, &pdf);
                     radiance = rgb_add(radiance, rgb_mul(beta, le));
                 }
