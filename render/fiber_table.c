@@ -151,7 +151,9 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
      * and phi_o nodes (docs/fiber.md has the errors). */
     int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
     plm_fiber_medulla_layout(p, t->symmetry, o ? &o->medulla : NULL, &t->medulla);
-    size_t budget = PLM_FIBER_TABLE_BUDGET - sizeof(float) * t->medulla.floats; /* the medulla's part first */
+    /* The medulla's part first (an override may take all of it: the other part then gets its least). */
+    size_t medulla_bytes = sizeof(float) * t->medulla.floats;
+    size_t budget = medulla_bytes < PLM_FIBER_TABLE_BUDGET ? PLM_FIBER_TABLE_BUDGET - medulla_bytes : 0;
     int bins = (int)ceil((round_fiber ? 4.0 : 2.0) * PLM_TWO_PI / p->beta_n);
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;

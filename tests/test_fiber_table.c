@@ -605,9 +605,27 @@ static void render_estimators_agree(void **state)
     assert_agree(whole[0], whole[1], 3.9);
 }
 
+/* A medulla part asked for more than the whole budget leaves the other part
+ * its least resolution (the budget left is none, not a wrapped-around
+ * size). */
+static void medulla_override_over_budget(void **state)
+{
+    (void)state;
+    plm_fiber_params p;
+    plm_fiber_params_figure7(&p, 3);
+    plm_fiber_table_options o = {0};
+    o.medulla.phi_nodes = 200;
+    plm_fiber_table t;
+    plm_fiber_table_layout(&p, &o, &t);
+    assert_true(sizeof(float) * t.medulla.floats > PLM_FIBER_TABLE_BUDGET);
+    assert_int_equal(t.phi_nodes, 3);
+    assert_true(sizeof(float) * (t.floats - t.medulla.floats) < PLM_FIBER_TABLE_BUDGET / 4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(medulla_override_over_budget),
         cmocka_unit_test(circular_fiber_matches_h_mean),
         cmocka_unit_test(medulla_split_matches_trace),
         cmocka_unit_test(white_furnace),
