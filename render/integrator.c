@@ -131,11 +131,11 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         if (end == END_ESCAPED) {
             for (int i = 0; i < w->light_count; ++i)
                 if (plm_light_is_infinite(&w->lights[i])) {
-                    /* The radiance's lookup gives the density MIS needs, when it does. */
-                    double pdf = 0.0;
-                    int weighted = depth > 0 && est == PLM_ESTIMATOR_MIS;
-                    rgb le = plm_light_environment(&w->lights[i], d, weighted ? &pdf : NULL);
-                    le = emission_weight(w, i, le, prev_p, d, prev_pdf, depth == 0, est, &pdf);
+                    /* The radiance's lookup gives the density MIS needs, when it does;
+                     * otherwise none is passed on, so a weighting that needs one looks it up. */
+                    double pdf, *known = depth > 0 && est == PLM_ESTIMATOR_MIS ? &pdf : NULL;
+                    rgb le = plm_light_environment(&w->lights[i], d, known);
+                    le = emission_weight(w, i, le, prev_p, d, prev_pdf, depth == 0, est, known);
                     radiance = rgb_add(radiance, rgb_mul(beta, le));
                 }
             break;
