@@ -310,6 +310,33 @@ static void prepared_bsdf_is_reproducible_by_seed(void **state)
     free_material(&m);
 }
 
+/* Over one side of the normal n (0: upper, 1: lower), from N samples: the
+ * mean sampled weight (est), the same samples weighted as if pick were
+ * uniform over the fibers that carry light (wrong) and the integral of eval
+ * by uniform Monte Carlo (ref). */
+static void weights_on_side(const plm_bsdf *b, vec3 n, int side, plm_rng *rng, estimate *est, estimate *wrong,
+                            estimate *ref)
+{
+    enum { N = 200000 };
+    const plm_feather_bsdf *f = (const plm_feather_bsdf *)b->state;
+    double carrying = (f->pick[0] > 0.0) + (f->pick[1] > 0.0) + (f->pick[2] > 0.0);
+    double sum = 0.0, sum2 = 0.0, bad = 0.0, bad2 = 0.0, integral = 0.0, integral2 = 0.0;
+    for (int i = 0; i < N; ++i) {
+        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng), r;
+        plm_bsdf_sample_rec rec;
+        if (plm_bsdf_sample(b, u0, u1, u2, &rec) && (v3_dot(rec.wi, n) > 0.0) == (side == 0)) {
+            double v = rgb_mean(rec.weight), x = v * f->pick[plm_feather_pick(f, u0, &r)] * carrying;
+            sum += v, sum2 += v * v, bad += x, bad2 += x * x;
+        }
+        vec3 w = plm_sample_uniform_sphere(plm_rng_uniform(rng), plm_rng_uniform(rng));
+        double e = (v3_dot(w, n) > 0.0) == (side == 0) ? rgb_mean(plm_bsdf_eval(b, w)) * 4.0 * PLM_PI : 0.0;
+        integral += e, integral2 += e * e;
+    }
+    *est = iid_estimate(sum, sum2, N);
+    *wrong = iid_estimate(bad, bad2, N);
+    *ref = iid_estimate(integral, integral2, N);
+}
+
 /* A sampled direction's weight is fiber k's own S_k cos / pdf_k times
  * weight_k / pick_k, an estimate of eval / pdf that is unbiased given wi:
  * so the mean weight over each hemisphere of the barb frame's normal must be
@@ -321,7 +348,6 @@ static void prepared_bsdf_is_reproducible_by_seed(void **state)
 static void sampled_weights_estimate_the_mixture(void **state)
 {
     (void)state;
-    enum { N = 200000 };
     plm_rng rng;
     plm_rng_seed(&rng, 41, 7);
     int wrong_caught = 0;
@@ -343,27 +369,10 @@ static void sampled_weights_estimate_the_mixture(void **state)
         plm_hit hit = plane_hit(&m);
         plm_bsdf b;
         plm_material_bsdf(&hit, v3_normalize(t % 2 ? v3(-0.4, 0.3, 0.7) : v3(0.3, -0.5, 0.6)), &rng, &b);
-        const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
-        double carrying = (f->pick[0] > 0.0) + (f->pick[1] > 0.0) + (f->pick[2] > 0.0);
         for (int side = 0; side < 2; ++side) {
-            double sum = 0.0, sum2 = 0.0, wrong = 0.0, wrong2 = 0.0, integral = 0.0, integral2 = 0.0;
-            for (int i = 0; i < N; ++i) {
-                double u0 = plm_rng_uniform(&rng), u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng), r;
-                plm_bsdf_sample_rec rec;
-                if (plm_bsdf_sample(&b, u0, u1, u2, &rec) && (v3_dot(rec.wi, hit.n) > 0.0) == (side == 0)) {
-                    double v = rgb_mean(rec.weight), x = v * f->pick[plm_feather_pick(f, u0, &r)] * carrying;
-                    sum += v, sum2 += v * v, wrong += x, wrong2 += x * x;
-                }
-                vec3 w = plm_sample_uniform_sphere(plm_rng_uniform(&rng), plm_rng_uniform(&rng));
-                int here = (v3_dot(w, hit.n) > 0.0) == (side == 0);
-                double e = here ? rgb_mean(plm_bsdf_eval(&b, w)) * 4.0 * PLM_PI : 0.0;
-                integral += e, integral2 += e * e;
-            }
-            estimate est = {sum / N, sqrt(fmax(sum2 / N - plm_sqr(sum / N), 0.0) / N)};
-            estimate bad = {wrong / N, sqrt(fmax(wrong2 / N - plm_sqr(wrong / N), 0.0) / N)};
-            estimate ref = {integral / N, sqrt(fmax(integral2 / N - plm_sqr(integral / N), 0.0) / N)};
-            double z = fabs(est.mean - ref.mean) / sqrt(plm_sqr(est.se) + plm_sqr(ref.se));
-            double zw = fabs(bad.mean - ref.mean) / sqrt(plm_sqr(bad.se) + plm_sqr(ref.se));
+            estimate est, bad, ref;
+            weights_on_side(&b, hit.n, side, &rng, &est, &bad, &ref);
+            double z = z_score(est, ref), zw = z_score(bad, ref);
             fprintf(stderr, "case %d, %s side: mean weight %.5f +- %.5f, integral of eval %.5f +- %.5f (z %.2f); "
                             "uniform pick %.5f (z %.1f)\n",
                     t, side ? "lower" : "upper", est.mean, est.se, ref.mean, ref.se, z, bad.mean, zw);

@@ -12,6 +12,7 @@
 #include "render/bsdf.h"
 #include "render/feather_bsdf.h"
 #include "render/sampling.h"
+#include "tests/assert_double.h"
 #include "tests/chi_square.h"
 
 /* A feather material whose texture is vane everywhere with barbs at angle a (uv space). */
@@ -101,11 +102,29 @@ static int grid_cell(const frame *f, vec3 w)
     return chi_square_cell(asin(plm_clamp(l.z, -1, 1)), atan2(l.y, l.x), THETA_BINS, PHI_BINS);
 }
 
+/* A sample drawn with u0 first: its pdf is plm_bsdf_pdf, the pick-weighted
+ * mixture of the three fibers' pdfs, and its weight the chosen fiber's own
+ * S_k cos / pdf_k times weight_k / pick_k (its mean is tested by the
+ * feather's weight test). */
+static void check_sample(const plm_bsdf *b, double u0, const plm_bsdf_sample_rec *rec)
+{
+    const plm_feather_bsdf *fb = (const plm_feather_bsdf *)b->state;
+    double pdf = plm_bsdf_pdf(b, rec->wi), mix = 0.0, unused;
+    for (int k = 0; k < 3; ++k)
+        if (fb->pick[k] > 0.0)
+            mix += fb->pick[k] * plm_fiber_bcsdf_pdf(&fb->bcsdf[k], frame_to_local(&fb->fiber_frame[k], rec->wi));
+    assert_double_near(rec->pdf, pdf, 1e-12 * pdf);
+    assert_double_near(mix, pdf, 1e-12 * pdf);
+    int k = plm_feather_pick(fb, u0, &unused);
+    vec3 l = frame_to_local(&fb->fiber_frame[k], rec->wi);
+    double pk, own = plm_fiber_bcsdf_eval_pdf(&fb->bcsdf[k], l, &pk).r * sqrt(l.x * l.x + l.y * l.y) / pk *
+                     fb->weight[k] / fb->pick[k];
+    assert_double_near(rec->weight.r, own, 1e-9 * own + 1e-300);
+}
+
 /* Histogram of plm_bsdf_sample over a (theta, phi) grid of the barb frame
  * against the pdf integrated over each cell by an 8x8 midpoint rule (pbrt-v4's
- * test); also checks each sample's pdf, that the pdf is the pick-weighted
- * mixture of the three fibers' pdfs and that the weight is the chosen fiber's
- * own (its mean is tested by the feather's weight test). Returns the p-value
+ * test), each sample checked on its own (check_sample). Returns the p-value
  * of Pearson's chi-square. */
 static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
 {
@@ -116,21 +135,10 @@ static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
     const frame f = fb->fiber_frame[PLM_FEATHER_BARB];
     for (int s = 0; s < n; ++s) {
         plm_bsdf_sample_rec rec;
-        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng), unused;
+        double u0 = plm_rng_uniform(rng), u1 = plm_rng_uniform(rng), u2 = plm_rng_uniform(rng);
         if (!plm_bsdf_sample(b, u0, u1, u2, &rec))
             continue;
-        double pdf = plm_bsdf_pdf(b, rec.wi), mix = 0.0;
-        for (int k = 0; k < 3; ++k)
-            if (fb->pick[k] > 0.0)
-                mix += fb->pick[k] * plm_fiber_bcsdf_pdf(&fb->bcsdf[k], frame_to_local(&fb->fiber_frame[k], rec.wi));
-        assert_true(fabs(rec.pdf - pdf) <= 1e-12 * pdf);
-        assert_true(fabs(mix - pdf) <= 1e-12 * pdf);
-        /* The weight is the chosen fiber's own S_k cos / pdf_k times weight_k / pick_k. */
-        int k = plm_feather_pick(fb, u0, &unused);
-        vec3 l = frame_to_local(&fb->fiber_frame[k], rec.wi);
-        double pk, own = plm_fiber_bcsdf_eval_pdf(&fb->bcsdf[k], l, &pk).r * sqrt(l.x * l.x + l.y * l.y) / pk *
-                         fb->weight[k] / fb->pick[k];
-        assert_true(fabs(rec.weight.r - own) <= 1e-9 * own + 1e-300);
+        check_sample(b, u0, &rec);
         observed[grid_cell(&f, rec.wi)] += 1.0;
     }
     const double dt = PLM_PI / THETA_BINS, df = PLM_TWO_PI / PHI_BINS;
@@ -148,7 +156,7 @@ static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
     double total = 0.0;
     for (int i = 0; i < THETA_BINS * PHI_BINS; ++i)
         total += expected[i];
-    assert_true(fabs(total / n - 1.0) < 0.01); /* the pdf integrates to 1 */
+    assert_double_near(total / n, 1.0, 0.01); /* the pdf integrates to 1 */
     return chi_square_test(observed, expected, THETA_BINS * PHI_BINS);
 }
 

@@ -80,9 +80,15 @@ static inline estimate film_mean(const plm_world *w, plm_estimator est, int max_
     return film_region_mean(w, est, max_depth, n, seed, 0.0, 0.0, 1.0, 1.0);
 }
 
+/* How many combined standard errors apart two independent estimates are. */
+static inline double z_score(estimate a, estimate b)
+{
+    return fabs(a.mean - b.mean) / sqrt(a.se * a.se + b.se * b.se + 1e-30);
+}
+
 static void assert_agree(estimate a, estimate b, double z_max)
 {
-    double z = fabs(a.mean - b.mean) / sqrt(a.se * a.se + b.se * b.se + 1e-30);
+    double z = z_score(a, b);
     if (z > z_max)
         fail_msg("estimates disagree: %.6f +- %.6f vs %.6f +- %.6f (z = %.2f)", a.mean, a.se, b.mean, b.se, z);
 }
