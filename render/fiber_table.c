@@ -145,7 +145,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
                                            : PLM_FIBER_TABLE_NONE;
     /* A rotationally symmetric fiber needs one phi_o node, so it can afford
      * fine h cells and theta_o nodes, and four bins per beta_n, which keep
-     * eval's linear interpolation within 0.5% of a lobe's peak. Otherwise the
+     * eval's reconstruction between bins well within 0.5% of a lobe's peak. Otherwise the
      * errors of interpolating between phi_o nodes and within h cells are far
      * larger than that of two bins per beta_n, and the memory goes to h cells
      * and phi_o nodes (docs/fiber.md has the errors). */
@@ -564,11 +564,11 @@ static double column_mean(const plm_fiber_table_query *q, int col)
     return m;
 }
 
-/* ... and the masses of count (1 or 2) adjacent bins from bin b on, in all
+/* ... and the masses of count (1 to 3) adjacent bins from bin b on, in all
  * three channels, as (mean, R, G): count + 1 columns, read once per term. */
 static void bin_masses(const plm_fiber_table_query *q, int b, int count, double mass[][3])
 {
-    double col[3][3] = {{0.0}};
+    double col[4][3] = {{0.0}};
     for (int k = 0; k < q->terms; ++k) {
         const float *v = q->term[k] + 3 * b;
         for (int i = 0; i < 3 * (count + 1); ++i)
@@ -866,12 +866,14 @@ static void moving_density(const plm_fiber_table_query *q, double x, double d[4]
 }
 
 /* The table part at (theta_i, delta, cos(theta_i)): eval (G_M N / cos^2(theta_i),
- * N from the whole cells interpolated linearly between the two nearest bin
- * centres, plus the moving lobes') into *f if f is not NULL, and the
- * sampler's density (G_M times the whole cells' piecewise-constant bin
- * density plus the moving lobes', per solid angle) into *pdf. The bin
- * holding wi is one of the two eval interpolates, so the pdf comes almost
- * free with eval. */
+ * N from the whole cells as the quadratic whose means over wi's bin and its
+ * two neighbours are their masses, plus the moving lobes') into *f if f is
+ * not NULL, and the sampler's density (G_M times the whole cells'
+ * piecewise-constant bin density plus the moving lobes', per solid angle)
+ * into *pdf. The quadratic keeps each bin's mass and follows a lobe's
+ * curvature, which linear interpolation between bin centres flattens at a
+ * peak and lifts on a flank (docs/fiber.md); the pdf reads wi's bin, which
+ * eval reads anyway. */
 static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta, double ct, rgb *f,
                                 double *pdf)
 {
@@ -880,27 +882,32 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
     if (gm == 0.0)
         return;
     int n = t->phi_bins;
-    double w = bin_width(t), x = (delta + PLM_PI) / w - 0.5, fl = floor(x), frac = x - fl;
-    int b0 = ((int)fl + n) % n, b1 = b0 + 1 < n ? b0 + 1 : 0; /* wi lies in b1 if frac >= 0.5 */
-    int bin = frac >= 0.5 ? b1 : b0;
-    double m[2][3] = {{0.0}}, mass = 0.0, moving[4];
+    double w = bin_width(t), x = (delta + PLM_PI) / w;
+    int bin = (int)floor(x);
+    bin = bin < 0 ? 0 : bin >= n ? n - 1 : bin;
+    double m[3][3] = {{0.0}}, mass = 0.0, moving[4];
     moving_density(q, delta, moving);
     if (!f) {
         if (q->terms > 0)
             mass = column_mean(q, bin + 1) - column_mean(q, bin);
     } else {
-        if (q->terms > 0 && b1 == b0 + 1) {
-            bin_masses(q, b0, 2, m);
-        } else if (q->terms > 0) {
-            bin_masses(q, b0, 1, &m[0]);
-            bin_masses(q, b1, 1, &m[1]);
+        if (q->terms > 0 && bin > 0 && bin < n - 1) {
+            bin_masses(q, bin - 1, 3, m);
+        } else if (q->terms > 0) { /* the neighbours across the wrap */
+            bin_masses(q, (bin + n - 1) % n, 1, &m[0]);
+            bin_masses(q, bin, 1, &m[1]);
+            bin_masses(q, (bin + 1) % n, 1, &m[2]);
         }
-        double s = gm / (ct * ct), v[3];
-        for (int ch = 0; ch < 3; ++ch)
-            v[ch] = (m[0][ch] + (m[1][ch] - m[0][ch]) * frac) * s / w;
+        /* p(u) = a + b u + c u^2 over u in [-1/2, 1/2] (the bin's centre at 0),
+         * its means over the bins at u = -1, 0, 1 the masses m[0..2] / w. */
+        double s = gm / (ct * ct), u = x - bin - 0.5, v[3];
+        for (int ch = 0; ch < 3; ++ch) {
+            double c = 0.5 * (m[2][ch] - 2.0 * m[1][ch] + m[0][ch]), b = 0.5 * (m[2][ch] - m[0][ch]);
+            v[ch] = (m[1][ch] - c / 12.0 + (b + c * u) * u) * s / w;
+        }
         *f = rgb_make(fmax(0.0, v[1]) + moving[0] * s, fmax(0.0, v[2]) + moving[1] * s,
                       fmax(0.0, 3.0 * v[0] - v[1] - v[2]) + moving[2] * s);
-        mass = m[bin == b1][0];
+        mass = m[1][0];
     }
     *pdf = gm * (fmax(0.0, mass) / w + moving[3]) / (q->total * ct);
 }
