@@ -166,14 +166,18 @@ static double fiber_pdf(const plm_feather_bsdf *f, int k, vec3 wi)
     return plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
 }
 
-double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
+/* The mixture's density at wi, where fiber `known`'s own density is already
+ * known_pdf (known = -1: none is). */
+static double mixture_pdf(const plm_feather_bsdf *f, vec3 wi, int known, double known_pdf)
 {
     double pdf = 0.0;
     for (int k = 0; k < 3; ++k)
         if (f->pick[k] > 0.0)
-            pdf += f->pick[k] * fiber_pdf(f, k, wi);
+            pdf += f->pick[k] * (k == known ? known_pdf : fiber_pdf(f, k, wi));
     return pdf;
 }
+
+double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi) { return mixture_pdf(f, wi, -1, 0.0); }
 
 int plm_feather_pick(const plm_feather_bsdf *f, double u, double *remapped)
 {
@@ -202,11 +206,9 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
      * by rounding, enough to change the density in the last digits). */
     *wi = frame_to_world(&f->fiber_frame[k], local);
     vec3 lk = frame_to_local(&f->fiber_frame[k], *wi);
-    double pk = 0.0, density = 0.0;
+    double pk = 0.0;
     rgb s = plm_fiber_bcsdf_eval_pdf(&f->bcsdf[k], lk, &pk);
-    for (int j = 0; j < 3; ++j)
-        if (f->pick[j] > 0.0)
-            density += f->pick[j] * (j == k ? pk : fiber_pdf(f, j, *wi));
+    double density = mixture_pdf(f, *wi, k, pk);
     if (!(density > 0.0) || !(pk > 0.0))
         return 0;
     *pdf = density;
