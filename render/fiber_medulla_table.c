@@ -57,14 +57,16 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     /* The part is smooth in theta_i and phi_i but not in h (where paths
      * start or stop meeting the medulla) nor in phi_o for an elliptical
      * cortex (docs/fiber.md has the errors). A rotationally symmetric fiber
-     * has one phi_o node, and its error is mostly the |theta_i| bands'
-     * linear interpolation: 24 bands (3.75 deg) halve it against 12. Where
+     * has one phi_o node; its error is the |theta_i| bands' linear
+     * interpolation (24 bands, 3.75 deg, halve it against 12) and, for a
+     * small medulla, the h cells (72 and 9 |theta_o| nodes do better than
+     * 48 and 13 in the same memory). Where
      * the phi_o nodes must cover half the circle or all of it, blending
      * them is the error by far, and 5 |theta_o| nodes and 6 bands (15 deg)
      * leave room for three times the phi_o nodes. With both mirrors 12
      * bands and 7 nodes do best. */
     int round_fiber = symmetry == PLM_FIBER_TABLE_ROTATIONAL, wide = !round_fiber && symmetry != PLM_FIBER_TABLE_MIRROR_XY;
-    plm_fiber_medulla_resolution d = {round_fiber ? 13 : wide ? 5 : 7, 1, round_fiber ? 48 : 32,
+    plm_fiber_medulla_resolution d = {round_fiber ? 9 : wide ? 5 : 7, 1, round_fiber ? 72 : 32,
                                       round_fiber ? 24 : wide ? 6 : 12, 24, 4096};
     m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
     m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
