@@ -161,7 +161,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
      * (without it, the 89 deg node served every view beyond and was 3% off
      * at 89.3 deg); elliptical ones measured no better with it (docs/fiber.md). */
     t->limit_node = round_fiber;
-    t->theta_nodes = (o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 40 : 12) + t->limit_node;
+    t->theta_nodes = (o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 60 : 12) + t->limit_node;
     t->lobe_slots = round_fiber ? p->lobes : 0;
     size_t row_bytes = sizeof(float) * bound_floats(t);
     int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
