@@ -52,7 +52,9 @@ typedef struct plm_fiber_table {
     int theta_nodes, phi_nodes, h_cells, phi_bins, symmetry;
     int lobe_slots;    /* lobe records per node and h cell bound, by the lobes' wall hits: p->lobes for a
                         * rotationally symmetric fiber, else none (docs/fiber.md) */
-    double theta_max;  /* |theta_o| of the last node placed by u; beyond it the last node serves */
+    double theta_max;  /* |theta_o| of the last node placed by u; views beyond it are interpolated toward the
+                        * limit node if there is one (and it serves past PLM_FIBER_THETA_LIMIT), else the
+                        * last node serves */
     double u_first, u_last; /* nodes are uniform in u(|theta_o|) from u_first to u_last (docs/fiber.md) */
     int limit_node;    /* 1: the last of theta_nodes sits past theta_max at PLM_FIBER_THETA_LIMIT, next to
                         * grazing, and views between are interpolated linearly in u (circular tables) */
