@@ -101,13 +101,16 @@ double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nod
     return k == 0 ? 0.0 : k == nodes - 1 ? theta_max : 0.5 * (lo + hi);
 }
 
+/* The |theta_o| nodes over [0, theta_max], placed by u: all but the limit node. */
+static int placed_nodes(const plm_fiber_table *t) { return t->theta_nodes - t->limit_node; }
+
 /* The node coordinate (0 .. theta_nodes - 1) of |theta_o| in [0, pi/2],
  * given with its sine and cosine. A limit node is reached linearly in u
  * from theta_max: the internal lobes' energies fall about in proportion to
  * cos(theta_o), hence to u, toward grazing views (docs/fiber.md). */
 static double theta_coordinate(const plm_fiber_table *t, double theta, double sin_theta, double cos_theta)
 {
-    int placed = t->theta_nodes - t->limit_node; /* the nodes over [0, theta_max] */
+    int placed = placed_nodes(t);
     if (theta < t->theta_max || !t->limit_node)
         return plm_fiber_theta_coordinate(t->params.eta, t->u_last, t->theta_max, placed, theta, sin_theta,
                                           cos_theta);
@@ -117,7 +120,7 @@ static double theta_coordinate(const plm_fiber_table *t, double theta, double si
 
 static double node_theta(const plm_fiber_table *t, int k)
 {
-    int placed = t->theta_nodes - t->limit_node;
+    int placed = placed_nodes(t);
     return k < placed ? plm_fiber_node_theta(t->params.eta, t->u_last, t->theta_max, placed, k)
                       : PLM_FIBER_THETA_LIMIT;
 }
