@@ -476,7 +476,8 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
                                             3 * (size_t)bands * (cols + 1) + (size_t)cols) +
                           sizeof(int) * 2 * (size_t)cols;
     int ok = b.e.mass && make_kernels(&b) &&
-             plm_fiber_parallel(emission_work, &b, POINTS, emission_scratch, p->lobes, o, "medulla emission", started) &&
+             plm_fiber_parallel(emission_work, &b, POINTS, emission_scratch, p->lobes, o, "medulla emission",
+                                started) &&
              symmetrize(&b, m->symmetry) &&
              plm_fiber_parallel(node_work, &b, node_count(m), node_scratch, p->lobes, o, "medulla views", started);
     free(b.e.mass);
@@ -619,7 +620,8 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         for (int ch = 0; ch < 3; ++ch) {
             double lo0 = col[0][1][ch] - col[0][0][ch], lo1 = col[0][3][ch] - col[0][2][ch];
             double hi0 = col[1][1][ch] - col[1][0][ch], hi1 = col[1][3][ch] - col[1][2][ch];
-            double lo = (lo0 + (lo1 - lo0) * fc) * m->band_scale[a0], hi = (hi0 + (hi1 - hi0) * fc) * m->band_scale[a0 + 1];
+            double lo = (lo0 + (lo1 - lo0) * fc) * m->band_scale[a0];
+            double hi = (hi0 + (hi1 - hi0) * fc) * m->band_scale[a0 + 1];
             v[ch] = positive((lo * (1.0 - fa) + hi * fa) / (area * ct));
         }
         *f = rgb_make(v[0], v[1], v[2]);
@@ -627,7 +629,8 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         mass = (x[1][0] + x[1][1] + x[1][2]) - (x[0][0] + x[0][1] + x[0][2]);
     } else {
         int bin = in_c ? c1 : c0;
-        mass = sum_at(q, 0, q->terms, column_offset(q, in_a, bin + 1)) - sum_at(q, 0, q->terms, column_offset(q, in_a, bin));
+        mass = sum_at(q, 0, q->terms, column_offset(q, in_a, bin + 1)) -
+               sum_at(q, 0, q->terms, column_offset(q, in_a, bin));
     }
     /* The sampler never picks a bin of no mass (or less, by rounding). */
     *pdf = positive(mass) / (q->sum * area * ct);

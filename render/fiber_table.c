@@ -148,10 +148,11 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
                                            : PLM_FIBER_TABLE_NONE;
     /* A rotationally symmetric fiber needs one phi_o node, so it can afford
      * fine h cells and theta_o nodes, and four bins per beta_n, which keep
-     * eval's reconstruction between bins well within 0.5% of a lobe's peak. Otherwise the
-     * errors of interpolating between phi_o nodes and within h cells are far
-     * larger than that of two bins per beta_n, and the memory goes to h cells
-     * and phi_o nodes (docs/fiber.md has the errors). */
+     * eval's reconstruction between bins well within 0.5% of a lobe's
+     * peak. Otherwise the errors of interpolating between phi_o nodes and
+     * within h cells are far larger than that of two bins per beta_n, and
+     * the memory goes to h cells and phi_o nodes (docs/fiber.md has the
+     * errors). */
     int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
     plm_fiber_medulla_layout(p, t->symmetry, o ? &o->medulla : NULL, &t->medulla);
     /* The medulla's part first (an override may take all of it: the other part then gets its least). */
