@@ -48,34 +48,54 @@ static size_t row_floats(const plm_fiber_medulla_table *m) { return total_offset
 static size_t node_floats(const plm_fiber_medulla_table *m) { return (size_t)(m->res.h_cells + 1) * row_floats(m); }
 static int node_count(const plm_fiber_medulla_table *m) { return m->res.theta_nodes * m->res.phi_nodes; }
 
+/* The default resolution per symmetry class, the columns of docs/fiber.md's
+ * table (phi_o nodes 0: the override's, else what PLM_FIBER_MEDULLA_BUDGET
+ * leaves; a rotationally symmetric fiber's one node is fixed). The part is
+ * smooth in theta_i and phi_i but not in h (where paths start or stop
+ * meeting the medulla) nor in phi_o for an elliptical cortex, so the
+ * classes spend the memory differently (docs/fiber.md has the errors). */
+enum { DEFAULT_ROTATIONAL, DEFAULT_BOTH_MIRRORS, DEFAULT_WIDE };
+static const plm_fiber_medulla_resolution default_resolution[] = {
+    /* Rotationally symmetric: one phi_o node. The error is the |theta_i|
+     * bands' linear interpolation (24 bands of 3.75 deg halve it against
+     * 12) and, for a small medulla, the h cells (72 cells and 9 |theta_o|
+     * nodes do better than 48 and 13 in the same memory). */
+    [DEFAULT_ROTATIONAL] = {.theta_nodes = 9, .phi_nodes = 1, .h_cells = 72, .theta_bins = 24, .phi_bins = 24,
+                            .directions = 4096},
+    /* Both mirrors: the phi_o nodes over a quarter turn are dense already,
+     * and 12 bands with 7 |theta_o| nodes did better than 6 bands with more
+     * phi_o nodes. */
+    [DEFAULT_BOTH_MIRRORS] = {.theta_nodes = 7, .h_cells = 32, .theta_bins = 12, .phi_bins = 24,
+                              .directions = 4096},
+    /* One mirror or none: the phi_o nodes cover half the circle or all of
+     * it, and blending them is the error by far, so 5 |theta_o| nodes and 6
+     * bands (15 deg) leave room for three times the phi_o nodes. */
+    [DEFAULT_WIDE] = {.theta_nodes = 5, .h_cells = 32, .theta_bins = 6, .phi_bins = 24, .directions = 4096},
+};
+
+static const plm_fiber_medulla_resolution *defaults_for(int symmetry)
+{
+    return &default_resolution[symmetry == PLM_FIBER_TABLE_ROTATIONAL  ? DEFAULT_ROTATIONAL
+                               : symmetry == PLM_FIBER_TABLE_MIRROR_XY ? DEFAULT_BOTH_MIRRORS
+                                                                       : DEFAULT_WIDE];
+}
+
 void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
                               plm_fiber_medulla_table *m)
 {
     memset(m, 0, sizeof *m);
     if (!plm_fiber_has_medulla(p) || p->lobes < 2)
         return; /* no lobe can follow a medulla bounce */
-    /* The part is smooth in theta_i and phi_i but not in h (where paths
-     * start or stop meeting the medulla) nor in phi_o for an elliptical
-     * cortex (docs/fiber.md has the errors). A rotationally symmetric fiber
-     * has one phi_o node; its error is the |theta_i| bands' linear
-     * interpolation (24 bands, 3.75 deg, halve it against 12) and, for a
-     * small medulla, the h cells (72 and 9 |theta_o| nodes do better than
-     * 48 and 13 in the same memory). Where
-     * the phi_o nodes must cover half the circle or all of it, blending
-     * them is the error by far, and 5 |theta_o| nodes and 6 bands (15 deg)
-     * leave room for three times the phi_o nodes. With both mirrors 12
-     * bands and 7 nodes do best. */
-    int round_fiber = symmetry == PLM_FIBER_TABLE_ROTATIONAL, wide = !round_fiber && symmetry != PLM_FIBER_TABLE_MIRROR_XY;
-    plm_fiber_medulla_resolution d = {round_fiber ? 9 : wide ? 5 : 7, 1, round_fiber ? 72 : 32,
-                                      round_fiber ? 24 : wide ? 6 : 12, 24, 4096};
-    m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d.theta_nodes;
-    m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d.h_cells;
-    m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d.theta_bins;
-    m->res.phi_bins = r && r->phi_bins > 1 ? r->phi_bins : d.phi_bins; /* eval reads a bin and its neighbour */
-    m->res.directions = r && r->directions > 0 ? r->directions : d.directions;
+    const plm_fiber_medulla_resolution *d = defaults_for(symmetry);
+    m->res.theta_nodes = r && r->theta_nodes > 1 ? r->theta_nodes : d->theta_nodes;
+    m->res.h_cells = r && r->h_cells > 0 ? r->h_cells : d->h_cells;
+    m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d->theta_bins;
+    m->res.phi_bins = r && r->phi_bins > 1 ? r->phi_bins : d->phi_bins; /* eval reads a bin and its neighbour */
+    m->res.directions = r && r->directions > 0 ? r->directions : d->directions;
     size_t node_bytes = sizeof(float) * node_floats(m);
     int fit = (int)(PLM_FIBER_MEDULLA_BUDGET / (node_bytes * (size_t)m->res.theta_nodes));
-    m->res.phi_nodes = round_fiber ? 1 : r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 40 ? 40 : fit;
+    int phi_nodes = r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 40 ? 40 : fit;
+    m->res.phi_nodes = d->phi_nodes ? d->phi_nodes : phi_nodes;
     m->symmetry = symmetry;
     m->theta_max = plm_radians(89.0);
     m->eta = p->eta;
