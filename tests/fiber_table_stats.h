@@ -19,11 +19,12 @@ static double reference_gm(double beta, double Theta, double theta)
     return exp(-0.5 * plm_sqr((theta - Theta) / beta)) / (sqrt(2.0 * PLM_PI) * beta * z);
 }
 
-/* The azimuthal detector: a Gaussian wrapped onto the circle. */
-static double reference_gn(double beta, double dphi)
+/* The azimuthal detector: a Gaussian wrapped onto the circle, `wraps` turns
+ * either side of dphi. */
+static double reference_gn(double beta, double dphi, int wraps)
 {
     double sum = 0.0;
-    for (int k = -6; k <= 6; ++k)
+    for (int k = -wraps; k <= wraps; ++k)
         sum += exp(-0.5 * plm_sqr((dphi + PLM_TWO_PI * k) / beta));
     return sum / (sqrt(2.0 * PLM_PI) * beta);
 }
@@ -42,7 +43,7 @@ static rgb reference_eval(const plm_fiber_params *p, vec3 wo, double hmin, doubl
         int n = plm_fiber_trace(p, wo, h, &rng, lobes);
         for (int k = 0; k < n && !lobes[k].medulla; ++k) {
             double Theta = asin(lobes[k].dir.z), Phi = atan2(lobes[k].dir.y, lobes[k].dir.x);
-            double d = reference_gm(p->beta_m, Theta, theta) * reference_gn(p->beta_n, phi - Phi);
+            double d = reference_gm(p->beta_m, Theta, theta) * reference_gn(p->beta_n, phi - Phi, 6);
             sum = rgb_add(sum, rgb_scale(lobes[k].throughput, d));
         }
     }
@@ -74,57 +75,78 @@ static double radical_inverse(unsigned i, unsigned b)
     return x;
 }
 
+/* Point s of the Halton sequence in bases 2, 3 and 5, shifted modulo 1. */
+static void shifted_halton(int s, const double shift[3], double u[3])
+{
+    static const unsigned base[3] = {2, 3, 5};
+    for (int d = 0; d < 3; ++d) {
+        u[d] = radical_inverse((unsigned)s, base[d]) + shift[d];
+        u[d] -= floor(u[d]);
+    }
+}
+
+/* Adds eval(wi[i]) / paths of a lobe of weight A leaving in direction dir
+ * to x[3 i .. 3 i + 2] for every wi (G_N's wraps beyond one turn dropped:
+ * below e^-100 for beta_n < 0.6 rad). */
+static void add_lobe_eval(const plm_fiber_params *p, rgb A, vec3 dir, const vec3 *wi, int n, int paths, double *x)
+{
+    double Theta = asin(dir.z), Phi = atan2(dir.y, dir.x);
+    for (int i = 0; i < n; ++i) {
+        double ct = sqrt(wi[i].x * wi[i].x + wi[i].y * wi[i].y), theta = atan2(wi[i].z, ct);
+        if (fabs(theta - Theta) > 12.0 * p->beta_m)
+            continue; /* below e^-72 */
+        double dphi = remainder(atan2(wi[i].y, wi[i].x) - Phi, PLM_TWO_PI);
+        double d = reference_gm(p->beta_m, Theta, theta) * reference_gn(p->beta_n, dphi, 1) / (ct * ct);
+        x[3 * i] += A.r * d / paths;
+        x[3 * i + 1] += A.g * d / paths;
+        x[3 * i + 2] += A.b * d / paths;
+    }
+}
+
+/* One shift's estimate of eval at every wi into x (RGB per wi): the mean
+ * over `per` paths whose h and first diffuse direction are the shifted
+ * Halton points 0..per-1. */
+static void medulla_shift_estimate(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, const vec3 *wi,
+                                   int n, int per, const double shift[3], plm_rng *rng, plm_fiber_lobe *lobes,
+                                   double *x)
+{
+    for (int i = 0; i < 3 * n; ++i)
+        x[i] = 0.0;
+    for (int s = 0; s < per; ++s) {
+        double u[3];
+        shifted_halton(s, shift, u);
+        plm_fiber_medulla_hit hit;
+        if (!plm_fiber_trace_to_medulla(p, wo, hmin + (hmax - hmin) * u[0], lobes, &hit))
+            continue;
+        int m = plm_fiber_trace_from_medulla(p, hit.t, u[1], u[2], rng, lobes, p->lobes - hit.lobes);
+        for (int k = 0; k < m; ++k)
+            add_lobe_eval(p, rgb_mul(hit.throughput, lobes[k].throughput), lobes[k].dir, wi, n, per, x);
+    }
+}
+
 /* The converged stochastic mean of the medulla's part, written apart from
  * the table: the stochastic estimator's paths (plm_fiber_trace_to_medulla,
  * then plm_fiber_trace_from_medulla with the lobes left, which
- * test_fiber_table checks against plm_fiber_trace), `sets` of them, each's
- * lobes evaluated at every wi[i] with the detectors above (G_N's wraps
- * beyond one turn dropped: below e^-100 for beta_n < 0.6 rad). The entry
- * offset h and the first diffuse direction come from a randomised
- * quasi-Monte Carlo set: the Halton points in bases 2, 3 and 5, shifted
- * modulo 1 by a random vector, SHIFTS times (later bounces are random).
- * A wi sees light from few directions only, so random sets leave it noisy;
- * the points spread evenly over (h, direction) cut that noise several times
- * at the same cost. mean[i] is the mean over the shifts, var[i] the
- * variance of that mean (unbiased, from the shifts' spread). */
+ * test_fiber_table checks against plm_fiber_trace), `sets` of them (a
+ * positive multiple of SHIFTS), each's lobes evaluated at every wi[i] with
+ * the detectors above. The entry offset h and the first diffuse direction
+ * come from a randomised quasi-Monte Carlo set: the Halton points in bases
+ * 2, 3 and 5, shifted modulo 1 by a random vector, SHIFTS times (later
+ * bounces are random). A wi sees light from few directions only, so random
+ * sets leave it noisy; the points spread evenly over (h, direction) cut
+ * that noise several times at the same cost. mean[i] is the mean over the
+ * shifts, var[i] the variance of that mean (unbiased, from the shifts'
+ * spread). */
 static void reference_medulla(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, const vec3 *wi, int n,
                               int sets, plm_rng *rng, rgb *mean, rgb *var)
 {
     enum { SHIFTS = 16 };
-    int per = sets / SHIFTS;
+    assert_true(sets >= SHIFTS && sets % SHIFTS == 0);
     plm_fiber_lobe *lobes = malloc(sizeof *lobes * (size_t)p->lobes);
     double *sum = calloc(6 * (size_t)n, sizeof(double)), *x = malloc(3 * sizeof(double) * (size_t)n);
     for (int r = 0; r < SHIFTS; ++r) {
         double shift[3] = {plm_rng_uniform(rng), plm_rng_uniform(rng), plm_rng_uniform(rng)};
-        for (int i = 0; i < 3 * n; ++i)
-            x[i] = 0.0;
-        for (int s = 0; s < per; ++s) {
-            double u[3];
-            for (int d = 0; d < 3; ++d) {
-                u[d] = radical_inverse((unsigned)s, d == 0 ? 2 : d == 1 ? 3 : 5) + shift[d];
-                u[d] -= floor(u[d]);
-            }
-            plm_fiber_medulla_hit hit;
-            if (!plm_fiber_trace_to_medulla(p, wo, hmin + (hmax - hmin) * u[0], lobes, &hit))
-                continue;
-            int m = plm_fiber_trace_from_medulla(p, hit.t, u[1], u[2], rng, lobes, p->lobes - hit.lobes);
-            for (int k = 0; k < m; ++k) {
-                rgb A = rgb_mul(hit.throughput, lobes[k].throughput);
-                double Theta = asin(lobes[k].dir.z), Phi = atan2(lobes[k].dir.y, lobes[k].dir.x);
-                for (int i = 0; i < n; ++i) {
-                    double ct = sqrt(wi[i].x * wi[i].x + wi[i].y * wi[i].y), theta = atan2(wi[i].z, ct);
-                    if (fabs(theta - Theta) > 12.0 * p->beta_m)
-                        continue; /* below e^-72 */
-                    double dphi = remainder(atan2(wi[i].y, wi[i].x) - Phi, PLM_TWO_PI), gn = 0.0;
-                    for (int w = -1; w <= 1; ++w)
-                        gn += exp(-0.5 * plm_sqr((dphi + PLM_TWO_PI * w) / p->beta_n));
-                    double d = reference_gm(p->beta_m, Theta, theta) * gn / (sqrt(2.0 * PLM_PI) * p->beta_n * ct * ct);
-                    x[3 * i] += A.r * d / per;
-                    x[3 * i + 1] += A.g * d / per;
-                    x[3 * i + 2] += A.b * d / per;
-                }
-            }
-        }
+        medulla_shift_estimate(p, wo, hmin, hmax, wi, n, sets / SHIFTS, shift, rng, lobes, x);
         for (int i = 0; i < 3 * n; ++i) {
             sum[2 * i] += x[i];
             sum[2 * i + 1] += x[i] * x[i];
