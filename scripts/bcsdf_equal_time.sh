@@ -10,9 +10,11 @@
 # Run from the repository root (the bench generates the feather from a preset).
 # Defaults: cases abc, downscale 8 (4096 spp references of the full images cost
 # hours on two cores), 16 spp, a 4096 spp reference. CASES "crop" instead
-# renders the close-up (c) at full size, stochastic at SPP and tabulated at
-# equal time, and writes their centre 128x128, enlarged twice, side by side
-# (stochastic left) as OUTDIR/close_up_equal_time.png.
+# renders each scene (a, b, c) at full size, stochastic at SPP and tabulated
+# at equal time, cuts 128x128 of each (the vane of the single feather, the
+# middle of the pelt, the centre of the close-up), enlarges it twice and
+# writes them side by side (stochastic left), one scene per row, as
+# OUTDIR/equal_time_crops.png.
 set -euo pipefail
 plumage=$1 out=$2 cases=${3:-abc} down=${4:-8} spp=${5:-16} ref_spp=${6:-4096}
 mkdir -p "$out"
@@ -25,13 +27,18 @@ equal_spp() { # spp seconds-at-spp seconds-of-the-other -> the spp that takes as
 }
 if [ "$cases" = crop ]; then
     down=1
-    ts=$(bench stochastic "$spp" "$out/crop_stochastic" c)
-    n=$(equal_spp "$spp" "$(bench tabulated "$spp" "$out/crop_probe" c)" "$ts")
-    tn=$(bench tabulated "$n" "$out/crop_tabulated" c)
-    printf "close-up 256x256: stochastic %d spp %.2f s, tabulated %d spp %.2f s\n" "$spp" "$ts" "$n" "$tn"
-    oiiotool "$out/crop_stochastic_c.png" --cut 128x128+64+64 --resample 256x256 \
-        "$out/crop_tabulated_c.png" --cut 128x128+64+64 --resample 256x256 \
-        --mosaic:pad=4 2x1 -o "$out/close_up_equal_time.png"
+    tiles=()
+    for c in a b c; do
+        case $c in a) cut=128x128+64+100 ;; b) cut=128x128+192+100 ;; c) cut=128x128+64+64 ;; esac
+        ts=$(bench stochastic "$spp" "$out/crop_stochastic" $c)
+        n=$(equal_spp "$spp" "$(bench tabulated "$spp" "$out/crop_probe" $c)" "$ts")
+        tn=$(bench tabulated "$n" "$out/crop_tabulated" $c)
+        printf "case %s: stochastic %d spp %.2f s, tabulated %d spp %.2f s\n" $c "$spp" "$ts" "$n" "$tn"
+        for e in stochastic tabulated; do
+            tiles+=("$out/crop_${e}_$c.png" --cut "$cut" --resample 256x256)
+        done
+    done
+    oiiotool "${tiles[@]}" --mosaic:pad=4 2x3 -o "$out/equal_time_crops.png"
     exit 0
 fi
 rms() { oiiotool "$1" "$2" --diff 2>&1 | awk '/RMS error/ { print $4 }' || true; }
