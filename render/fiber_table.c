@@ -239,6 +239,12 @@ void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double del
     }
 }
 
+/* A traced lobe's azimuth relative to the view, in [-pi, pi]. */
+static double lobe_delta(const plm_fiber_lobe *l, double phi_o)
+{
+    return remainder(atan2(l->dir.y, l->dir.x) - phi_o, PLM_TWO_PI);
+}
+
 /* A node's lobe records: per cell bound h_j the lobes that never met the
  * medulla, traced at h_j, each in the slot of its wall hits (so a total
  * internal reflection, which stores no lobe, does not shift the lobes
@@ -261,7 +267,7 @@ static void build_lobe_records(const plm_fiber_table *t, int node, vec3 wo, doub
             int k = lobes[i].wall_hits;
             if (k >= L || !(rgb_mean(lobes[i].throughput) > 0.0))
                 continue;
-            r[4 * k] = (float)remainder(atan2(lobes[i].dir.y, lobes[i].dir.x) - phi_o, PLM_TWO_PI);
+            r[4 * k] = (float)lobe_delta(&lobes[i], phi_o);
             r[4 * k + 1] = (float)lobes[i].throughput.r;
             r[4 * k + 2] = (float)lobes[i].throughput.g;
             r[4 * k + 3] = (float)lobes[i].throughput.b;
@@ -287,15 +293,17 @@ static void build_lobe_records(const plm_fiber_table *t, int node, vec3 wo, doub
  * cell, stray from the straight line between the cell's bounds by more
  * than beta_n, or their weights by more than 2% of the energy (a lobe
  * that starts or stops meeting the medulla within the cell): then a
- * partial cell is taken from the rows (its mass spread evenly) instead. */
+ * partial cell is taken from the rows (its mass spread evenly) instead.
+ * lobes[0..n-1] are those before the first medulla bounce, delta[i] lobe
+ * i's lobe_delta. */
 static void check_linear(const plm_fiber_table *t, int node, int j, double f, const plm_fiber_lobe *lobes, int n,
-                         double phi_o)
+                         const double *delta)
 {
     float *r0 = bound_records(t, node, j), *r1 = bound_records(t, node, j + 1);
     int L = t->lobe_slots;
     double total = 0.0, off_weight = 0.0, off_place = 0.0;
     double traced[2 * PLM_FIBER_SET_MAX_LOBES][2] = {{0.0}};
-    for (int i = 0; i < n && !lobes[i].medulla; ++i) {
+    for (int i = 0; i < n; ++i) {
         double a = rgb_mean(lobes[i].throughput);
         total += a;
         if (lobes[i].wall_hits >= L) {
@@ -303,7 +311,7 @@ static void check_linear(const plm_fiber_table *t, int node, int j, double f, co
             continue;
         }
         traced[lobes[i].wall_hits][0] = a;
-        traced[lobes[i].wall_hits][1] = remainder(atan2(lobes[i].dir.y, lobes[i].dir.x) - phi_o, PLM_TWO_PI);
+        traced[lobes[i].wall_hits][1] = delta[i];
     }
     for (int k = 0; k < L; ++k) {
         const float *a = r0 + 4 * k, *b = r1 + 4 * k;
@@ -342,13 +350,14 @@ static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lob
         for (int m = 0; m < sub_samples; ++m) {
             double gamma = -HALF_PI + (j * sub_samples + m + 0.5) * dgamma, h = sin(gamma);
             double dh = cos(gamma) * dgamma;
-            int n = plm_fiber_trace(p, wo, h, &rng, lobes);
-            if (t->lobe_slots > 0)
-                check_linear(t, node, j, (h - h_node[j]) / (h_node[j + 1] - h_node[j]), lobes, n, phi_o);
-            for (int k = 0; k < n && !lobes[k].medulla; ++k) {
-                double delta = remainder(atan2(lobes[k].dir.y, lobes[k].dir.x) - phi_o, PLM_TWO_PI);
-                plm_fiber_gn_deposit(cell, bins, p->beta_n, rgb_scale(lobes[k].throughput, dh), delta);
+            int n = plm_fiber_trace(p, wo, h, &rng, lobes), direct = 0;
+            double delta[PLM_FIBER_SET_MAX_LOBES]; /* of the lobes before the first medulla bounce */
+            for (; direct < n && !lobes[direct].medulla; ++direct) {
+                delta[direct] = lobe_delta(&lobes[direct], phi_o);
+                plm_fiber_gn_deposit(cell, bins, p->beta_n, rgb_scale(lobes[direct].throughput, dh), delta[direct]);
             }
+            if (t->lobe_slots > 0)
+                check_linear(t, node, j, (h - h_node[j]) / (h_node[j + 1] - h_node[j]), lobes, direct, delta);
         }
         /* S(j + 1, c) = S(j, c) + the cell's mass below column c, summed in double. */
         float *dst = out + row_floats(t) * (size_t)(j + 1);
@@ -494,7 +503,6 @@ static double wrap_near(double a)
     a = a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
     return a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
 }
-
 
 /* The cell of h (given with its asin, as cells are uniform in it) and h's
  * fraction across it. */

@@ -35,6 +35,13 @@ static double chi_square_test(const double *observed, const double *expected, in
     return 0.5 * erfc(z / sqrt(2.0));
 }
 
+/* Sidak's per-test threshold on the p-value for `tests` independent tests
+ * whose family-wise false-alarm rate is alpha. */
+static inline double chi_square_sidak(double alpha, int tests)
+{
+    return 1.0 - pow(1.0 - alpha, 1.0 / tests);
+}
+
 /* The cell of a theta-major grid of nt x np cells over theta in [-pi/2, pi/2]
  * and phi in [-pi, pi] holding the direction (theta, phi); values on or past
  * an edge go to the edge cell. */

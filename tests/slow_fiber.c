@@ -46,7 +46,7 @@ static void sampling_matches_pdf_for_random_fibers(void **state)
 {
     (void)state;
     enum { N_TESTS = 40 };
-    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, N_TESTS);
     plm_rng rng;
     plm_rng_seed(&rng, 1234, 0);
     int failures = 0;

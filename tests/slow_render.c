@@ -63,7 +63,7 @@ static plm_material random_case(plm_rng *rng, int clear, vec3 *wo)
 static void sampling_matches_pdf_over_random_feathers(void **state)
 {
     (void)state;
-    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / CONFIGS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, CONFIGS);
     plm_rng rng;
     plm_rng_seed(&rng, 2024, 1);
     for (int c = 0; c < CONFIGS; ++c) {

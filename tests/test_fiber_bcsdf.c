@@ -72,7 +72,7 @@ static void sampling_matches_pdf(void **state)
 {
     (void)state;
     enum { N_TESTS = 6 };
-    const double alpha = 0.01, threshold = 1.0 - pow(1.0 - alpha, 1.0 / N_TESTS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, N_TESTS);
     plm_rng rng;
     plm_rng_seed(&rng, 77, 0);
     for (int t = 0; t < N_TESTS; ++t) {

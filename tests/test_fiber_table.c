@@ -267,7 +267,7 @@ static void sampling_matches_pdf(void **state)
 {
     (void)state;
     enum { N_TESTS = 5 };
-    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, N_TESTS);
     plm_fiber_table_options o = test_options(NULL, 7, 6, 16, 96);
     plm_rng rng;
     plm_rng_seed(&rng, 8, 0);
@@ -299,7 +299,7 @@ static void moving_lobes_sampling_matches_pdf(void **state)
 {
     (void)state;
     enum { N_TESTS = 3 };
-    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, N_TESTS);
     const double interval[N_TESTS][2] = {{0.01, 0.19}, {-0.62, -0.35}, {0.7, 0.7}};
     plm_fiber_table_options o = test_options(NULL, 7, 0, 16, 96);
     plm_fiber_params p;
@@ -330,7 +330,7 @@ static void grazing_cells_integrate_and_sample(void **state)
 {
     (void)state;
     enum { N_TESTS = 2 };
-    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / N_TESTS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, N_TESTS);
     plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 96);
     o.grazing_nodes = 2, o.grazing_cells = 96;
     plm_fiber_params p = white_fiber(0, 1.6);

@@ -355,7 +355,7 @@ static void sampler_samples_are_uniform_and_independent(void **state)
         observed[0][(int)(a.x * G) * G + (int)(a.y * G)] += 1.0;
         observed[1][(int)(a.x * G) * G + (int)(b.x * G)] += 1.0;
     }
-    const double threshold = 1.0 - pow(1.0 - 0.01, 1.0 / TESTS); /* Sidak */
+    const double threshold = chi_square_sidak(0.01, TESTS);
     for (int t = 0; t < TESTS; ++t) {
         double pv = chi_square_test(observed[t], expected, G * G);
         if (!(pv > threshold))
