@@ -126,14 +126,20 @@ typedef struct plm_fiber_lobe_set {
 void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double hmax, plm_rng *rng,
                        plm_fiber_lobe_set *set);
 
-/* The longitudinal detector G_M about Theta: its normalisation 1 / (sqrt(2 pi)
- * beta_m Z), Z the Gaussian's mass inside [-pi/2, pi/2]; its value scale *
- * exp(-dtheta^2 / (2 beta_m^2)) (0 beyond 10 std-devs); and the inverse of
- * its CDF at u in [0, 1). Lobes that never meet the medulla all share Theta =
+/* The longitudinal detector G_M about Theta, a Gaussian of std-dev beta_m
+ * truncated to [-pi/2, pi/2], prepared once per Theta: its normalisation
+ * scale = 1 / (sqrt(2 pi) beta_m Z), Z the Gaussian's mass inside
+ * [-pi/2, pi/2], and erf at the standard scores of the ends, between which
+ * its inverse CDF maps u. Its value is scale * exp(-dtheta^2 / (2 beta_m^2))
+ * (0 beyond 10 std-devs); the inverse of its CDF at u in [0, 1) is
+ * plm_fiber_sample_gm. Lobes that never meet the medulla all share Theta =
  * -theta_o, which the tabulated BCSDF (render/fiber_table.h) builds on. */
-double plm_fiber_gm_scale(double beta_m, double Theta);
+typedef struct plm_fiber_gm_detector {
+    double scale, erf_lo, erf_hi;
+} plm_fiber_gm_detector;
+void plm_fiber_gm_detector_about(double beta_m, double Theta, plm_fiber_gm_detector *g);
 double plm_fiber_gm(double beta_m, double scale, double dtheta);
-double plm_fiber_sample_gm(double Theta, double beta_m, double u);
+double plm_fiber_sample_gm(const plm_fiber_gm_detector *g, double Theta, double beta_m, double u);
 /* The standard normal's inverse CDF at u in [0, 1), kept finite: G_N's
  * sampler, and the tabulated BCSDF's for its moving lobes. */
 double plm_fiber_normal_quantile(double u);

@@ -761,7 +761,7 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     q->theta_o = v->theta_o;
     q->phi_o = v->phi_o;
     q->flip = v->flip;
-    q->gm_scale = plm_fiber_gm_scale(t->params.beta_m, -q->theta_o);
+    plm_fiber_gm_detector_about(t->params.beta_m, -q->theta_o, &q->gm);
     double ft = theta_coordinate(t, fabs(q->theta_o), v->sin_theta, v->cos_theta);
     int nodes[4];
     double w[4];
@@ -890,7 +890,7 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
                                 double *pdf)
 {
     const plm_fiber_table *t = q->table;
-    double gm = plm_fiber_gm(t->params.beta_m, q->gm_scale, theta + q->theta_o);
+    double gm = plm_fiber_gm(t->params.beta_m, q->gm.scale, theta + q->theta_o);
     if (gm == 0.0)
         return;
     int n = t->phi_bins;
@@ -981,7 +981,7 @@ static int table_sample(const plm_fiber_table_query *q, double u0, double u1, do
         z = plm_clamp(z, -MOVING_CUT, MOVING_CUT);
         *delta = wrap_pi(m->delta0 + m->slope * s + t->params.beta_n * z);
     }
-    *theta = plm_fiber_sample_gm(-q->theta_o, t->params.beta_m, u1);
+    *theta = plm_fiber_sample_gm(&q->gm, -q->theta_o, t->params.beta_m, u1);
     *wi = plm_fiber_direction(*theta, q->phi_o + (q->flip ? -*delta : *delta));
     return 1;
 }

@@ -7,10 +7,12 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "render/fiber.h"
+#include "tests/assert_double.h"
 #include "tests/fiber_stats.h"
 
 /* A Fig. 7 fiber, checked valid. */
@@ -222,6 +224,63 @@ static void separable_detectors_match_eval(void **state)
     }
 }
 
+/* The standard normal's CDF at x in long double, from the upper tail
+ * where x > 0 (1 - CDF) so that no digits cancel: CDF(x) if upper is 0. */
+static long double normal_tail(long double x, int upper)
+{
+    return 0.5L * erfcl((upper ? x : -x) / sqrtl(2.0L));
+}
+
+/* The samplers' inverse CDFs are exact to a few ulp: the standard normal's
+ * quantile (G_N's sampler and the moving lobes') against its root in long
+ * double, found by Newton steps on erfcl from the same u (the u the sampler
+ * sees: 2u - 1 rounded as it rounds it); G_M's sampler against the CDF of the
+ * truncated Gaussian in long double, for narrow and wide detectors about
+ * several Theta. u covers [0, 1) evenly and both tails down to 1e-16. */
+static void samplers_invert_their_cdfs(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 5, 0);
+    double worst = 0.0;
+    for (int i = 0; i < 200000; ++i) {
+        double r = plm_rng_uniform(&rng), u = i % 3 == 0 ? r : pow(10.0, -16.0 * r);
+        u = i % 3 == 2 ? 1.0 - u : u;
+        double y = plm_clamp(2.0 * u - 1.0, -1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON);
+        int upper = y > 0.0;
+        long double goal = upper ? 0.5L * (1.0L - y) : 0.5L * (1.0L + y); /* the tail the sampler aims at */
+        double x = plm_fiber_normal_quantile(u);
+        long double root = x;
+        for (int k = 0; k < 3; ++k) /* the density at the root: exp(-x^2/2) / sqrt(2 pi) */
+            root -= (upper ? -1.0L : 1.0L) * (normal_tail(root, upper) - goal) /
+                    (expl(-0.5L * root * root) / sqrtl(2.0L * 3.14159265358979323846264338327950288L));
+        double ulp = nextafter(fabs((double)root), INFINITY) - fabs((double)root);
+        worst = fmax(worst, (double)(fabsl(x - root) / ulp));
+    }
+    fprintf(stderr, "normal quantile: within %.2f ulp of its root\n", worst);
+    assert_true(worst <= 3.0);
+    const double betas[] = {0.02, 0.13, 1.2}, thetas[] = {0.0, -0.7, 1.45};
+    for (int b = 0; b < 3; ++b)
+        for (int t = 0; t < 3; ++t) {
+            plm_fiber_gm_detector g;
+            plm_fiber_gm_detector_about(betas[b], thetas[t], &g);
+            long double s = sqrtl(2.0L) * betas[b], lo = erfl((-0.5L * 3.14159265358979323846264338327950288L -
+                                                                 thetas[t]) / s);
+            long double hi = erfl((0.5L * 3.14159265358979323846264338327950288L - thetas[t]) / s);
+            for (int i = 0; i < 2000; ++i) {
+                double u = (i + plm_rng_uniform(&rng)) / 2000.0;
+                double theta = plm_fiber_sample_gm(&g, thetas[t], betas[b], u);
+                long double cdf = (erfl((theta - thetas[t]) / s) - lo) / (hi - lo);
+                /* u maps to erf's range to a few ulp of 1, and theta, Theta plus the
+                 * scaled quantile, rounds to a few of its ulp: times the density */
+                double big = fmax(fabs(theta), fabs(thetas[t])), ulp = nextafter(big, INFINITY) - big;
+                double density = (double)(2.0L / ((hi - lo) * s * sqrtl(3.14159265358979323846264338327950288L)) *
+                                          expl(-plm_sqr((theta - thetas[t]) / (double)s)));
+                assert_double_near((double)cdf, u, 4.0 * DBL_EPSILON + 4.0 * ulp * density);
+            }
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -230,6 +289,7 @@ int main(void)
         cmocka_unit_test(lobe_sets_are_reproducible),
         cmocka_unit_test(separable_detectors_match_eval),
         cmocka_unit_test(no_non_finite_output),
+        cmocka_unit_test(samplers_invert_their_cdfs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
