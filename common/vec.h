@@ -19,6 +19,8 @@ static inline double plm_radians(double deg) { return deg * (PLM_PI / 180.0); }
 static inline double plm_degrees(double rad) { return rad * (180.0 / PLM_PI); }
 static inline double plm_clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 static inline double plm_sqr(double x) { return x * x; }
+/* max(x, 0), inline where fmax is a library call; NaN gives 0. */
+static inline double plm_positive(double x) { return x > 0.0 ? x : 0.0; }
 /* sqrt and asin that tolerate arguments a rounding error outside their domain. */
 static inline double plm_safe_sqrt(double x) { return x > 0.0 ? sqrt(x) : 0.0; }
 static inline double plm_safe_asin(double x) { return asin(plm_clamp(x, -1.0, 1.0)); }

@@ -682,15 +682,12 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     }
     if (!(mass > 0.0))
         return 0;
-    /* The column by the band's cumulative row, which ends at the band's mass:
-     * the first probes at the column where the row, taken as linear between
-     * the columns known, would reach goal (the row is smooth, so two or
-     * three probes tend to do), then bisection (in case it is not). */
+    /* The column by the band's cumulative row, which ends at the band's mass
+     * (plm_fiber_search_probe). */
     double goal = u2 * mass, x0 = 0.0, x1 = mass;
     int lo = 0, hi = cols; /* column lo <= goal < column hi */
     for (int probe = 0; hi - lo > 1; ++probe) {
-        int mid = probe < 3 ? lo + (int)((goal - x0) / (x1 - x0) * (hi - lo) + 0.5) : (lo + hi) / 2;
-        mid = mid <= lo ? lo + 1 : mid >= hi ? hi - 1 : mid;
+        int mid = plm_fiber_search_probe(probe, lo, hi, x0, x1, goal);
         double x = sum_at(q, k0, k1, column_offset(q, a, mid));
         if (x <= goal)
             lo = mid, x0 = x;

@@ -786,7 +786,7 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
         q->terms += plm_fiber_terms(t->data + level_start(t, it), node_floats(t, it), row_floats(t), local, wl,
                                     &rows, q->term + q->terms, q->coef + q->terms, NULL);
     }
-    q->rows_total = q->terms > 0 ? fmax(0.0, column_mean(q, t->phi_bins)) : 0.0;
+    q->rows_total = q->terms > 0 ? plm_positive(column_mean(q, t->phi_bins)) : 0.0;
     q->total = q->rows_total;
     for (int i = 0; i < q->moving_count; ++i)
         q->total += moving_mass(&q->moving[i]);
@@ -917,11 +917,11 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
             double c = 0.5 * (m[2][ch] - 2.0 * m[1][ch] + m[0][ch]), b = 0.5 * (m[2][ch] - m[0][ch]);
             v[ch] = (m[1][ch] - c / 12.0 + (b + c * u) * u) * s / w;
         }
-        *f = rgb_make(fmax(0.0, v[1]) + moving[0] * s, fmax(0.0, v[2]) + moving[1] * s,
-                      fmax(0.0, 3.0 * v[0] - v[1] - v[2]) + moving[2] * s);
+        *f = rgb_make(plm_positive(v[1]) + moving[0] * s, plm_positive(v[2]) + moving[1] * s,
+                      plm_positive(3.0 * v[0] - v[1] - v[2]) + moving[2] * s);
         mass = m[1][0];
     }
-    *pdf = gm * (fmax(0.0, mass) / w + moving[3]) / (q->total * ct);
+    *pdf = gm * (plm_positive(mass) / w + moving[3]) / (q->total * ct);
 }
 
 /* Within a moving lobe (u in [0, 1)): the place s along its piece, whose
@@ -948,8 +948,8 @@ static int table_sample(const plm_fiber_table_query *q, double u0, double u1, do
     if (target < q->rows_total) {
         double a = 0.0, b = q->rows_total;
         int lo = 0, hi = t->phi_bins; /* column lo <= target < column hi */
-        while (hi - lo > 1) {
-            int mid = (lo + hi) / 2;
+        for (int probe = 0; hi - lo > 1; ++probe) {
+            int mid = plm_fiber_search_probe(probe, lo, hi, a, b, target);
             double m = column_mean(q, mid);
             if (m <= target)
                 lo = mid, a = m;
@@ -1111,7 +1111,7 @@ int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, doubl
         return 0;
     rec->lobe = -1;
     rgb f;
-    double pdf, ct = sqrt(wi.x * wi.x + wi.y * wi.y);
+    double pdf, ct = angles[2];
     bcsdf_lookup(b, wi, angles, &f, &pdf);
     if (!(pdf > 0.0))
         return 0;

@@ -137,6 +137,16 @@ void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_
                        double phi, int nodes[4], double w[4]);
 int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
                     const plm_fiber_h_rows *rows, const float **term, double *coef, int *node_end);
+/* The column to probe next when searching a cumulative row for the columns
+ * lo < hi around goal (their values x0 <= goal < x1): the first three probes
+ * where the row, taken as linear between them, reaches goal (a row is
+ * smooth over a few columns, so two or three probes tend to do), then
+ * bisection (in case it is not). Both parts' samplers search this way. */
+static inline int plm_fiber_search_probe(int probe, int lo, int hi, double x0, double x1, double goal)
+{
+    int mid = probe < 3 ? lo + (int)((goal - x0) / (x1 - x0) * (hi - lo) + 0.5) : (lo + hi) / 2;
+    return mid <= lo ? lo + 1 : mid >= hi ? hi - 1 : mid;
+}
 /* Runs work(ctx, item, scratch, lobes) for items 0..items-1 on o's threads
  * (0: all cores), each thread with scratch_bytes of scratch and room for
  * `lobes` lobes, showing "what" and the progress on stderr (unless o->quiet)
