@@ -56,7 +56,9 @@ static void body(void *arg, long calls)
             plm_masking_eval_window(&c->model, wo, c->what == TIME_FAR ? &far_field : &c->windows[k], &m);
             acc += m.w_barb + m.barb[0].hmin;
         } else if (c->what == TIME_NEARFIELD_AT) {
-            plm_barb_window w = plm_nearfield_at(&c->texture, c->uvs[k], v3(1.0, 0.0, 0.0), v3(0.0, 1.0, 0.0),
+            plm_texel_site site;
+            plm_feather_texture_site(&c->texture, c->uvs[k], &site);
+            plm_barb_window w = plm_nearfield_at(&c->texture, &site, v3(1.0, 0.0, 0.0), v3(0.0, 1.0, 0.0),
                                                  v3(0.0, 0.0, 1.0), c->rays[k], CONE_WIDTH);
             acc += w.x1 - w.x0;
         } else if (c->what == TIME_FEATHER_MASKING) {

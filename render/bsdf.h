@@ -86,8 +86,14 @@ static inline int plm_bsdf_sample(const plm_bsdf *b, double u0, double u1, doubl
 }
 
 /* Completes a hit whose geometric fields are set: the material's surface
- * data (the texture lookups), done once per hit. */
+ * data (the texture lookups), done once per hit. In two steps for the
+ * Embree filters, which decide a candidate's passing from the first and
+ * finish only the hit they keep: _at sets what the transmission needs
+ * (site: where uv falls in the material's texture, NULL: looked up), _finish
+ * the rest (the pigment's tint). */
 void plm_material_surface(plm_hit *hit);
+void plm_material_surface_at(plm_hit *hit, const plm_texel_site *site);
+void plm_material_surface_finish(plm_hit *hit);
 double plm_material_transmission(const plm_hit *hit, vec3 w);
 /* The same, keeping what it computed in the hit for plm_material_bsdf with wo = w
  * (a ray's closest hit was seen by the filters that decided its passing). */

@@ -83,17 +83,28 @@ static long texel_index(const plm_feather_texture *t, long x, long y)
     return y * t->width + x;
 }
 
+void plm_feather_texture_site(const plm_feather_texture *t, vec2 uv, plm_texel_site *out)
+{
+    texel_coords(t, uv, &out->x, &out->y);
+    long x = nearest(out->x), y = nearest(out->y); /* >= 0: uv is clamped */
+    out->cx = x >= t->width ? t->width - 1 : x;
+    out->cy = y >= t->height ? t->height - 1 : y;
+    out->centre = out->cy * t->width + out->cx;
+}
+
 long plm_texel_nearest(int width, int height, vec2 uv)
 {
     plm_feather_texture t = {width, height, NULL, NULL, NULL};
-    double x, y;
-    texel_coords(&t, uv, &x, &y);
-    return texel_index(&t, nearest(x), nearest(y));
+    plm_texel_site site;
+    plm_feather_texture_site(&t, uv, &site);
+    return site.centre;
 }
 
 plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv)
 {
-    return (plm_region)t->region[plm_texel_nearest(t->width, t->height, uv)];
+    plm_texel_site site;
+    plm_feather_texture_site(t, uv, &site);
+    return plm_feather_texture_region_at(t, &site);
 }
 
 /* The (unnormalised) direction stored in texel i. */
@@ -105,9 +116,15 @@ static vec2 texel_direction(const plm_feather_texture *t, long i)
 
 vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv)
 {
-    double x, y;
-    texel_coords(t, uv, &x, &y);
-    long centre = texel_index(t, nearest(x), nearest(y));
+    plm_texel_site site;
+    plm_feather_texture_site(t, uv, &site);
+    return plm_feather_texture_direction_at(t, &site);
+}
+
+vec2 plm_feather_texture_direction_at(const plm_feather_texture *t, const plm_texel_site *site)
+{
+    double x = site->x, y = site->y;
+    long centre = site->centre;
     long x0 = (long)floor(x), y0 = (long)floor(y);
     double fx = x - x0, fy = y - y0;
     vec2 sum = v2(0.0, 0.0);
@@ -154,14 +171,17 @@ static double barb_difference(const plm_feather_texture *t, long x, long y, int 
 
 int plm_feather_texture_barb(const plm_feather_texture *t, vec2 uv, plm_barb_sample *out)
 {
+    plm_texel_site site;
+    plm_feather_texture_site(t, uv, &site);
+    return plm_feather_texture_barb_at(t, &site, out);
+}
+
+int plm_feather_texture_barb_at(const plm_feather_texture *t, const plm_texel_site *site, plm_barb_sample *out)
+{
     if (!t->barb)
         return 0;
-    double x, y;
-    texel_coords(t, uv, &x, &y);
-    long cx = nearest(x), cy = nearest(y);
-    cx = cx >= t->width ? t->width - 1 : cx;
-    cy = cy >= t->height ? t->height - 1 : cy;
-    long centre = cy * t->width + cx;
+    double x = site->x, y = site->y;
+    long centre = site->centre, cx = site->cx, cy = site->cy;
     double ref = t->barb[centre];
     long x0 = (long)floor(x), y0 = (long)floor(y);
     double fx = x - x0, fy = y - y0, sum = 0.0, weight = 0.0;

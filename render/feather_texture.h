@@ -28,14 +28,28 @@ void plm_feather_texture_free(plm_feather_texture *t);
  * says (top row first, uv = (0, 1) at the top-left corner); its index. */
 long plm_texel_nearest(int width, int height, vec2 uv);
 
+/* Where uv falls among the texels, which the lookups at one point share:
+ * continuous texel coordinates (texel centres at integers) and the nearest
+ * texel, (cx, cy) and its index. */
+typedef struct plm_texel_site {
+    double x, y;
+    long cx, cy, centre;
+} plm_texel_site;
+void plm_feather_texture_site(const plm_feather_texture *t, vec2 uv, plm_texel_site *out);
+
 /* Region of the texel nearest to uv (no filtering: regions never blend). */
 plm_region plm_feather_texture_region(const plm_feather_texture *t, vec2 uv);
+static inline plm_region plm_feather_texture_region_at(const plm_feather_texture *t, const plm_texel_site *s)
+{
+    return (plm_region)t->region[s->centre];
+}
 
 /* Barb direction (cos a, sin a) at uv, unit length: bilinear among the four
  * nearest texels that share the region of the nearest one, renormalised, so
  * it never blends across a region boundary; decoding to vectors before
  * averaging means there is no angle wrap-around. */
 vec2 plm_feather_texture_direction(const plm_feather_texture *t, vec2 uv);
+vec2 plm_feather_texture_direction_at(const plm_feather_texture *t, const plm_texel_site *site);
 
 /* The barb coordinate near uv (docs/nearfield.md). */
 typedef struct plm_barb_sample {
@@ -50,5 +64,6 @@ typedef struct plm_barb_sample {
  * boundary; the gradient by differences between the nearest texel's
  * neighbours of its region. Returns 0 if the texture has no coordinate. */
 int plm_feather_texture_barb(const plm_feather_texture *t, vec2 uv, plm_barb_sample *out);
+int plm_feather_texture_barb_at(const plm_feather_texture *t, const plm_texel_site *site, plm_barb_sample *out);
 
 #endif

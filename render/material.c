@@ -70,20 +70,38 @@ static rgb pigment_factor(const plm_material *m, vec2 uv)
     return rgb_scale(f, plm_clamp(1.0 - barb, 0.0, 1.0));
 }
 
-void plm_material_surface(plm_hit *hit)
+void plm_material_surface_at(plm_hit *hit, const plm_texel_site *site)
 {
     /* The texture says where the vane is; background texels never get here
      * (the Embree filters drop them). */
     const plm_material *m = hit->material;
     hit->on_vane = 0;
     hit->has_masking = 0;
-    if (m->type != PLM_MATERIAL_FEATHER || plm_feather_texture_region(&m->texture, hit->uv) != PLM_REGION_VANE)
+    if (m->type != PLM_MATERIAL_FEATHER)
         return;
-    vec2 dir = plm_feather_texture_direction(&m->texture, hit->uv);
+    plm_texel_site own;
+    if (!site) {
+        plm_feather_texture_site(&m->texture, hit->uv, &own);
+        site = &own;
+    }
+    if (plm_feather_texture_region_at(&m->texture, site) != PLM_REGION_VANE)
+        return;
+    vec2 dir = plm_feather_texture_direction_at(&m->texture, site);
     hit->on_vane = plm_feather_barb_frame(hit->n, hit->dpdu, hit->dpdv, dir, &hit->barb);
-    hit->window = plm_nearfield_at(&m->texture, hit->uv, hit->dpdu, hit->dpdv, hit->n, hit->ray_dir, hit->cone_width);
+    hit->window = plm_nearfield_at(&m->texture, site, hit->dpdu, hit->dpdv, hit->n, hit->ray_dir, hit->cone_width);
+}
+
+void plm_material_surface_finish(plm_hit *hit)
+{
+    const plm_material *m = hit->material;
     if (hit->on_vane && m->pigment.pixels)
         hit->tint = rgb_mul(hit->tint, pigment_factor(m, hit->uv));
+}
+
+void plm_material_surface(plm_hit *hit)
+{
+    plm_material_surface_at(hit, NULL);
+    plm_material_surface_finish(hit);
 }
 
 double plm_material_transmission(const plm_hit *hit, vec3 w)

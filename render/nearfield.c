@@ -49,11 +49,11 @@ plm_barb_window plm_nearfield_window(double coordinate, double footprint, double
     return (plm_barb_window){x - half, x + half};
 }
 
-plm_barb_window plm_nearfield_at(const plm_feather_texture *t, vec2 uv, vec3 dpdu, vec3 dpdv, vec3 n, vec3 d,
-                                 double width)
+plm_barb_window plm_nearfield_at(const plm_feather_texture *t, const plm_texel_site *site, vec3 dpdu, vec3 dpdv,
+                                 vec3 n, vec3 d, double width)
 {
     plm_barb_sample s;
-    if (!(width > 0.0 && width < INFINITY) || !plm_feather_texture_barb(t, uv, &s))
+    if (!(width > 0.0 && width < INFINITY) || !plm_feather_texture_barb_at(t, site, &s))
         return plm_nearfield_far();
     vec3 g = plm_nearfield_gradient(s.gradient, dpdu, dpdv);
     if (!(v3_dot(g, g) > 0.0)) /* no barbs to resolve */

@@ -32,10 +32,11 @@ double plm_nearfield_footprint(vec3 gradient, vec3 d, vec3 n, double width);
  * unwrapping them becomes unreliable; at a period or more, the far field. */
 plm_barb_window plm_nearfield_window(double coordinate, double footprint, double texel_step);
 
-/* All of the above at a vane point: the texture's coordinate at uv, the
- * cone of `width` arriving along d; the far field when the texture has no
- * coordinate or there is no cone (width 0, or not finite). */
-plm_barb_window plm_nearfield_at(const plm_feather_texture *t, vec2 uv, vec3 dpdu, vec3 dpdv, vec3 n, vec3 d,
-                                 double width);
+/* All of the above at a vane point: the texture's coordinate where the
+ * point's uv falls (site), the cone of `width` arriving along d; the far
+ * field when the texture has no coordinate or there is no cone (width 0, or
+ * not finite). */
+plm_barb_window plm_nearfield_at(const plm_feather_texture *t, const plm_texel_site *site, vec3 dpdu, vec3 dpdv,
+                                 vec3 n, vec3 d, double width);
 
 #endif

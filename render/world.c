@@ -47,8 +47,8 @@ typedef struct query_context {
     float kept_t;
 } query_context;
 
-static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, double cone_width,
-                     vec3 d, plm_hit *hit);
+static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2,
+                     const plm_texel_site *site, double cone_width, vec3 d, plm_hit *hit);
 
 /* The pixel cone's width at distance t (t is the world one, in instances too); 0: no cone. */
 static double cone_width(const query_context *ctx, double t) { return ctx->spread * t; }
@@ -69,18 +69,23 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
         if (args->valid[i] == 0)
             continue;
         unsigned prim = proto->triangle[hit_ids[5 * n + i]], inst = hit_ids[7 * n + i];
-        if (proto->mask && plm_feather_texture_region(proto->mask, triangle_uv(proto->mesh, prim, hit[3 * n + i],
-                                                                                hit[4 * n + i])) ==
-                               PLM_REGION_BACKGROUND) {
-            args->valid[i] = 0;
-            continue;
+        /* The mask is the material's texture: the hit's lookups start from this site. */
+        plm_texel_site site;
+        if (proto->mask) {
+            plm_feather_texture_site(proto->mask, triangle_uv(proto->mesh, prim, hit[3 * n + i], hit[4 * n + i]),
+                                     &site);
+            if (plm_feather_texture_region_at(proto->mask, &site) == PLM_REGION_BACKGROUND) {
+                args->valid[i] = 0;
+                continue;
+            }
         }
         if (!ctx->transparent && !ctx->passing)
             continue;
         plm_hit h;
-        /* In instances the ray arrives in object space; its parameter t is the world one. */
-        fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], cone_width(ctx, ray[8 * n + i]),
-                 v3_neg(ctx->back), &h);
+        /* In instances the ray arrives in object space; its parameter t is the world one. What
+         * the passing needs; the hit kept is finished once the query ends (intersect). */
+        fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], proto->mask ? &site : NULL,
+                 cone_width(ctx, ray[8 * n + i]), v3_neg(ctx->back), &h);
         double tr = plm_material_transmission_keep(&h, ctx->back);
         if (ctx->passing) {
             /* One uniform per surface, from its identity rather than from the order Embree
@@ -379,9 +384,11 @@ static void make_ray(struct RTCRay *r, vec3 o, vec3 d, double tmax)
     r->flags = 0;
 }
 
-/* World-space surface state at barycentrics (b1, b2) of a triangle of an instance. */
-static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2, double cone_width,
-                     vec3 d, plm_hit *hit)
+/* World-space surface state at barycentrics (b1, b2) of a triangle of an instance,
+ * with the material's surface data that decides passing (plm_material_surface_at;
+ * site: where uv falls in the material's texture, NULL: looked up). */
+static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2,
+                     const plm_texel_site *site, double cone_width, vec3 d, plm_hit *hit)
 {
     const plm_instance *in = &w->scene->instances[inst];
     const plm_mesh *m = &w->scene->meshes[in->mesh].mesh;
@@ -427,7 +434,7 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
     hit->material = &w->scene->materials[in->material];
     hit->cone_width = cone_width;
     hit->ray_dir = d;
-    plm_material_surface(hit);
+    plm_material_surface_at(hit, site);
 }
 
 static void init_context(query_context *ctx, const plm_world *w, int transparent)
@@ -455,7 +462,8 @@ static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, dou
     *t = rh.ray.tfar;
     unsigned inst = rh.hit.instID[0], prim = w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID];
     if (!(ctx->have_kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
-        fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, cone_width(ctx, rh.ray.tfar), d, hit);
+        fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, NULL, cone_width(ctx, rh.ray.tfar), d, hit);
+    plm_material_surface_finish(hit);
     return 1;
 }
 

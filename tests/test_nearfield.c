@@ -273,10 +273,12 @@ static void texture_coordinate_is_unwrapped(void **state)
      * dP/du, dP/dv the unit axes, a cone of 1e-4 covers 5.4e-4 of a period, but texels 0.31 of a
      * period apart widen the window to (0.31 - 0.3) / 0.15; no cone is the far field. */
     vec3 n = v3(0, 0, 1), d = v3(0, 0, -1);
-    plm_barb_window w = plm_nearfield_at(&tex, v2(0.5, 0.5), v3(1, 0, 0), v3(0, 1, 0), n, d, 1e-4);
+    plm_texel_site site;
+    plm_feather_texture_site(&tex, v2(0.5, 0.5), &site);
+    plm_barb_window w = plm_nearfield_at(&tex, &site, v3(1, 0, 0), v3(0, 1, 0), n, d, 1e-4);
     assert_double_near(0.5 * (w.x0 + w.x1), -0.06, 1e-5);
     assert_double_near(w.x1 - w.x0, 0.01 / 0.15, 1e-6); /* the texels are floats */
-    w = plm_nearfield_at(&tex, v2(0.5, 0.5), v3(1, 0, 0), v3(0, 1, 0), n, d, 0.0);
+    w = plm_nearfield_at(&tex, &site, v3(1, 0, 0), v3(0, 1, 0), n, d, 0.0);
     assert_true(w.x1 - w.x0 >= 1.0);
     plm_feather_texture_free(&tex);
 }
