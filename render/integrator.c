@@ -10,16 +10,52 @@ typedef struct segment {
     rgb emitted;  /* END_LIGHT */
 } segment;
 
+/* The numbers of one depth beyond the sampler's pairs: the passing of the
+ * ray that leaves it (a seed hashed per surface plus a shift: the sampler
+ * keeps the seed for all of a pixel's samples and stratifies the shift) and
+ * the third BSDF number at the vertex that ray finds. Drawn on first need:
+ * a ray that escapes meets no surface and needs none. */
+typedef struct depth_numbers {
+    const plm_sampler *sampler;
+    plm_rng *rng;
+    int depth, drawn;
+    uint64_t seed;
+    vec2 more;
+} depth_numbers;
+
+static void draw_numbers(depth_numbers *n)
+{
+    if (n->drawn)
+        return;
+    if (n->sampler) {
+        n->seed = plm_hash64(n->sampler->key, (uint64_t)n->depth, 3);
+        n->more = plm_sampler_2d(n->sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_MORE, n->depth));
+    } else {
+        n->seed = ((uint64_t)plm_rng_u32(n->rng) << 32) | plm_rng_u32(n->rng);
+        n->more = v2(0.0, plm_rng_uniform(n->rng));
+    }
+    n->drawn = 1;
+}
+
+/* plm_passing's draw. */
+static void draw_passing(void *arg, uint64_t *seed, double *shift)
+{
+    depth_numbers *n = arg;
+    draw_numbers(n);
+    *seed = n->seed;
+    *shift = n->more.x;
+}
+
 /* Follows o + t d until it scatters off a surface, hits an area light or
  * escapes; surfaces it meets are passed with their transmission probability,
- * decided by numbers hashed per surface from seed plus shift (the sampler
- * keeps seed for all of a pixel's samples and stratifies the shift). */
-static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, double spread, uint64_t seed, double shift,
+ * decided by the depth's numbers. */
+static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, double spread, depth_numbers *numbers,
                                  segment *seg, long long *rays)
 {
     double t_surface = INFINITY, t;
     ++*rays;
-    int surface = plm_world_intersect_passing(w, o, d, INFINITY, seed, shift, spread, &t_surface, &seg->hit);
+    plm_passing passing = {0, 0.0, draw_passing, numbers};
+    int surface = plm_world_intersect_passing(w, o, d, INFINITY, &passing, spread, &t_surface, &seg->hit);
     int light = -1;
     for (int i = 0; i < w->light_count; ++i) {
         rgb le;
@@ -110,19 +146,10 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
     segment seg;
     plm_bsdf bsdf;
     for (int depth = 0;; ++depth) {
-        /* The passing of this ray and the third BSDF number at the vertex it finds. */
-        uint64_t seed;
-        vec2 more;
-        if (sampler) {
-            seed = plm_hash64(sampler->key, (uint64_t)depth, 3);
-            more = plm_sampler_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_MORE, depth));
-        } else {
-            seed = ((uint64_t)plm_rng_u32(rng) << 32) | plm_rng_u32(rng);
-            more = v2(0.0, plm_rng_uniform(rng));
-        }
+        depth_numbers numbers = {sampler, rng, depth, 0, 0, {0.0, 0.0}};
         /* Camera rays carry the pixel cone (near-field shading); after a scattering event it is lost. */
         segment_end end =
-            trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, seed, more.x, &seg, rays);
+            trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, &numbers, &seg, rays);
         if (end == END_LIGHT) {
             rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est, NULL);
             radiance = rgb_add(radiance, rgb_mul(beta, le));
@@ -142,6 +169,8 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         }
         if (depth >= max_depth)
             break;
+        /* Drawn before rng serves the vertex, so its sequence does not depend on the ray's passing. */
+        draw_numbers(&numbers);
         vec3 wo = v3_neg(d);
         plm_material_bsdf(&seg.hit, wo, rng, &bsdf);
         if (est != PLM_ESTIMATOR_BSDF && w->light_count > 0) {
@@ -152,7 +181,7 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
          * component and a fiber's azimuth bin or lobe, then theta_i). */
         vec2 u = sample_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_BSDF, depth), rng);
         plm_bsdf_sample_rec s;
-        if (!plm_bsdf_sample(&bsdf, u.x, u.y, more.y, &s))
+        if (!plm_bsdf_sample(&bsdf, u.x, u.y, numbers.more.y, &s))
             break;
         beta = rgb_mul(beta, s.weight);
         if (rgb_is_black(beta)) /* nothing more can arrive (and 0 x an infinite sky would be NaN) */

@@ -31,8 +31,7 @@ typedef struct query_context {
     const plm_world *world;
     int transparent;
     int passing;
-    uint64_t seed;                    /* passing: decisions are hash(seed, instance, triangle) + shift, mod 1 */
-    double shift;
+    plm_passing numbers;              /* passing: decisions are hash(seed, instance, triangle) + shift, mod 1 */
     double spread;                    /* pixel cone width per unit distance, 0: none (docs/nearfield.md) */
     vec3 back;                        /* unit, opposite to the ray's world-space direction */
     int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
@@ -52,6 +51,20 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
 
 /* The pixel cone's width at distance t (t is the world one, in instances too); 0: no cone. */
 static double cone_width(const query_context *ctx, double t) { return ctx->spread * t; }
+
+/* The uniform that decides whether a ray passes a surface: one per surface,
+ * from its identity rather than from the order Embree reports candidates in,
+ * so that every surface nearer than the hit kept was reported and passed, and
+ * the kept hit is distributed as when tracing one crossing at a time. */
+static double passing_uniform(plm_passing *numbers, unsigned inst, unsigned prim)
+{
+    if (numbers->draw) {
+        numbers->draw(numbers->arg, &numbers->seed, &numbers->shift);
+        numbers->draw = NULL;
+    }
+    double u = (double)(plm_hash64(numbers->seed, inst, prim) >> 11) * 0x1.0p-53 + numbers->shift;
+    return u >= 1.0 ? u - 1.0 : u;
+}
 
 /* Intersection and occlusion filter. Background texels of the mask are not
  * there at all, so Embree goes on to the next candidate. In a transparent
@@ -88,12 +101,7 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
                  cone_width(ctx, ray[8 * n + i]), v3_neg(ctx->back), &h);
         double tr = plm_material_transmission_keep(&h, ctx->back);
         if (ctx->passing) {
-            /* One uniform per surface, from its identity rather than from the order Embree
-             * reports candidates in: every surface nearer than the hit kept was reported
-             * and passed, so the kept hit is distributed as when tracing one crossing at a time. */
-            double u = (double)(plm_hash64(ctx->seed, inst, prim) >> 11) * 0x1.0p-53 + ctx->shift;
-            u -= u >= 1.0 ? 1.0 : 0.0;
-            if (tr > 0.0 && u < tr) {
+            if (tr > 0.0 && passing_uniform(&ctx->numbers, inst, prim) < tr) {
                 args->valid[i] = 0;
             } else if (ctx->kept) { /* the hit and its masking, for the shading that follows */
                 *ctx->kept = h;
@@ -474,15 +482,14 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
     return intersect(w, &ctx, o, d, tmax, t, hit);
 }
 
-int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double shift,
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, const plm_passing *passing,
                                 double spread, double *t, plm_hit *hit)
 {
     query_context ctx;
     init_context(&ctx, w, 0);
     ctx.spread = spread;
     ctx.passing = w->transmissive;
-    ctx.seed = seed;
-    ctx.shift = shift;
+    ctx.numbers = *passing;
     ctx.back = v3_neg(d);
     ctx.kept = hit;
     return intersect(w, &ctx, o, d, tmax, t, hit);

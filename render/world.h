@@ -52,6 +52,17 @@ void plm_world_free(plm_world *w);
 
 /* Closest surface along o + t d, t in (0, tmax). Fills hit (and *t); returns 0 on a miss. */
 int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit);
+/* The numbers that decide a ray's passing (below): seed and shift, or, if
+ * draw is set, draw(arg, &seed, &shift) when the first surface that could
+ * let the ray through is met: most rays that escape meet none, and for a
+ * stratified sampler the numbers cost more than the rest of a miss. */
+typedef struct plm_passing {
+    uint64_t seed;
+    double shift;
+    void (*draw)(void *arg, uint64_t *seed, double *shift);
+    void *arg;
+} plm_passing;
+
 /* Closest surface along the ray that does not let it pass: each surface
  * with a transmission (toward -d) is passed with that probability, decided
  * by the uniform number hashed from (seed, instance, triangle) plus shift,
@@ -61,9 +72,8 @@ int plm_world_intersect(const plm_world *w, vec3 o, vec3 d, double tmax, double 
  * fractional visibility in one query. spread: the
  * pixel cone's width per unit distance from o (camera rays: the camera's
  * pixel_spread), 0 for none; near-field shading uses it (docs/nearfield.md). */
-int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, uint64_t seed, double shift,
-                                double spread,
-                                double *t, plm_hit *hit);
+int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax, const plm_passing *passing,
+                                double spread, double *t, plm_hit *hit);
 
 /* Fraction of light passing the segment o + t d, t in (0, tmax): 0 if an
  * opaque surface is in the way, else the product of the transmissions of

@@ -269,8 +269,9 @@ static void transmittance_through_stacked_sheets(void **state)
         for (int k = 0; k < SHIFTS; ++k) {
             double t = 0.0;
             plm_hit hit;
-            assert_true(plm_world_intersect_passing(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY,
-                                                    plm_hash64(41, (uint64_t)p, 0), (k + 0.5) / SHIFTS, 0.0, &t, &hit));
+            plm_passing numbers = {plm_hash64(41, (uint64_t)p, 0), (k + 0.5) / SHIFTS, NULL, NULL};
+            assert_true(plm_world_intersect_passing(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &numbers, 0.0, &t,
+                                                    &hit));
             observed[(int)lround(t) - 1] += 1.0;
         }
     double pv = chi_square_test(observed, expected, 4);
