@@ -77,7 +77,9 @@ static void render_tile(job *j, int tile, int s0, int s1)
                 plm_rng rng;
                 plm_rng_seed(&rng, plm_hash64(j->seed, (uint64_t)pixel, (uint64_t)s), 0);
                 sampler.index = (uint32_t)s;
-                vec2 film = plm_sampler_2d(&sampler, PLM_SAMPLE_PIXEL), lens = plm_sampler_2d(&sampler, PLM_SAMPLE_LENS);
+                /* A pinhole camera has no use for the lens pair. */
+                vec2 film = plm_sampler_2d(&sampler, PLM_SAMPLE_PIXEL);
+                vec2 lens = w->camera.lens_radius > 0.0 ? plm_sampler_2d(&sampler, PLM_SAMPLE_LENS) : v2(0.0, 0.0);
                 vec3 o, d;
                 plm_camera_ray(&w->camera, x + film.x, y + film.y, lens.x, lens.y, &o, &d);
                 if (j->opt->trace_only) {
