@@ -628,10 +628,12 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
      * the mass per unit theta falls like cos(theta) and eval's
      * 1 / cos^2(theta_i) magnifies any error in it. The bin holding wi, the
      * pdf's, is one of the four. */
-    double xa = theta / wa - 0.5, xc = (phi + PLM_PI) / wc - 0.5, flc = floor(xc);
-    int a0 = xa < 0.0 ? 0 : (int)xa, c0 = ((int)flc + cols) % cols, c1 = (c0 + 1) % cols;
+    double ya = theta / wa, xa = ya - 0.5, xc = (phi + PLM_PI) / wc - 0.5, flc = floor(xc);
+    /* phi in [-pi, pi] puts flc in [-1, cols - 1]: wrapped without a division */
+    int a0 = xa < 0.0 ? 0 : (int)xa, c0 = flc < 0.0 ? cols - 1 : (int)flc, c1 = c0 == cols - 1 ? 0 : c0 + 1;
     a0 = a0 > bands - 2 ? bands - 2 : a0;
-    int in_a = (int)plm_clamp(floor(theta / wa), 0.0, bands - 1.0), in_c = xc - flc >= 0.5;
+    int in_a = (int)ya, in_c = xc - flc >= 0.5; /* theta >= 0: truncation is floor */
+    in_a = in_a > bands - 1 ? bands - 1 : in_a;
     double fa = xa < 0.0 ? 0.0 : xa - a0, fc = xc - flc, area = 2.0 * wa * wc; /* a band holds both signs */
     double mass;
     if (f) {
