@@ -12,7 +12,9 @@
  *   S(j, a, c) = integral over h < h_j of the mass in band a with
  *                phi below column c,
  * i.e. the emission of the point each h reaches, weighted by the light that
- * reaches it. */
+ * reaches it. For a rotationally symmetric fiber the rows run over
+ * s = h / h_reach instead (plm_fiber_medulla_reach), so that where paths
+ * stop meeting the medulla is a cell bound at every view. */
 #include "render/fiber_medulla_table.h"
 
 #include <stdlib.h>
@@ -99,6 +101,7 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->symmetry = symmetry;
     m->theta_max = plm_radians(89.0);
     m->eta = p->eta;
+    m->radius = symmetry == PLM_FIBER_TABLE_ROTATIONAL ? p->medulla_a : 0.0;
     m->u_last = plm_fiber_theta_u(p->eta, m->theta_max);
     plm_fiber_phi_nodes(symmetry, m->res.phi_nodes, &m->phi_lo, &m->phi_step);
     m->floats = node_floats(m) * (size_t)node_count(m);
@@ -124,6 +127,12 @@ void plm_fiber_medulla_release(plm_fiber_medulla_table *m)
     free(m->band_scale);
     m->h_node = NULL;
     m->band_scale = NULL;
+}
+
+double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_theta, double cos_theta)
+{
+    double r = m->radius * sqrt(m->eta * m->eta - sin_theta * sin_theta);
+    return m->radius > 0.0 && r < cos_theta ? r / cos_theta : 1.0;
 }
 
 /* ---- building ------------------------------------------------------------ */
@@ -366,8 +375,10 @@ static void map_columns(const build_ctx *b, double origin, int *e0, int *e1, dou
 
 /* The light reaching each medulla point from h cell j seen from wo, per lobe
  * class (RGB; split linearly between the two nearest tabulated points), by
- * the midpoint rule in asin(h) with `sub` samples. */
-static void cell_reach(const build_ctx *b, vec3 wo, int j, int sub, double *reach, plm_fiber_lobe *lobes)
+ * the midpoint rule in asin(s) with `sub` samples, s = h / h_reach (per
+ * unit s). */
+static void cell_reach(const build_ctx *b, vec3 wo, double h_reach, int j, int sub, double *reach,
+                       plm_fiber_lobe *lobes)
 {
     const plm_fiber_params *p = b->p;
     memset(reach, 0, sizeof(double) * 3 * POINTS * (size_t)b->e.classes);
@@ -375,7 +386,7 @@ static void cell_reach(const build_ctx *b, vec3 wo, int j, int sub, double *reac
     for (int s = 0; s < sub; ++s) {
         double g = g0 + (s + 0.5) * dg;
         plm_fiber_medulla_hit hit;
-        if (!plm_fiber_trace_to_medulla(p, wo, sin(g), lobes, &hit))
+        if (!plm_fiber_trace_to_medulla(p, wo, h_reach * sin(g), lobes, &hit))
             continue;
         double x = hit.t / PLM_TWO_PI * POINTS, fl = floor(x), f = x - fl;
         int k0 = (int)(fl - POINTS * floor(fl / POINTS)), k1 = (k0 + 1) % POINTS;
@@ -462,8 +473,9 @@ static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *
     for (size_t x = 0; x < row_floats(m); ++x)
         out[x] = 0.0f;
     int sub = plm_fiber_h_sub_samples(b->p->beta_n, m->res.h_cells);
+    double h_reach = plm_fiber_medulla_reach(m, sin(theta_o), cos(theta_o));
     for (int j = 0; j < m->res.h_cells; ++j) {
-        cell_reach(b, plm_fiber_direction(theta_o, phi_o), j, sub, reach, lobes);
+        cell_reach(b, plm_fiber_direction(theta_o, phi_o), h_reach, j, sub, reach, lobes);
         cell_masses(b, reach, e0, e1, ef, cell);
         store_row(m, cell, row, out + row_floats(m) * (size_t)(j + 1));
     }
@@ -536,6 +548,29 @@ static double sum_at(const plm_fiber_medulla_query *q, int k0, int k1, size_t o)
     return r + g + b;
 }
 
+/* The rows and coefficients whose combination is the part's mean over the
+ * view's interval [h-, h+]. Rows over s = h / h_reach hold the integral
+ * over s of the part g(s) = f(h_reach s): the mean of f over [h-, h+] is
+ * h_reach (s+ - s-) / (h+ - h-) times the mean of g over [s-, s+] (s
+ * clamped to [-1, 1], where g is 0), and at a point f(h) = g(s). */
+static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view *v, plm_fiber_h_rows *rows)
+{
+    if (m->radius == 0.0) {
+        plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, rows);
+        return;
+    }
+    double reach = plm_fiber_medulla_reach(m, v->sin_theta, v->cos_theta), width = v->hmax - v->hmin;
+    plm_fiber_view s = *v;
+    s.hmin = plm_clamp(v->hmin / reach, -1.0, 1.0);
+    s.hmax = plm_clamp(v->hmax / reach, -1.0, 1.0);
+    s.asin_hmin = asin(s.hmin);
+    s.asin_hmax = asin(s.hmax);
+    plm_fiber_interval_rows(m->h_node, m->res.h_cells, &s, rows);
+    double scale = width < 1e-9 ? fabs(v->hmin) < reach : reach * (s.hmax - s.hmin) / width;
+    for (int r = 0; r < rows->n; ++r)
+        rows->coef[r] *= scale;
+}
+
 void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
                                plm_fiber_medulla_query *q)
 {
@@ -554,7 +589,7 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
                                                       : n - 1.0;
     plm_fiber_corners(m->symmetry, n, m->res.phi_nodes, m->phi_lo, m->phi_step, ft, v->phi, nodes, w);
     plm_fiber_h_rows rows;
-    plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, &rows);
+    interval_rows(m, v, &rows);
     q->terms = plm_fiber_terms(m->data, node_floats(m), row_floats(m), nodes, w, &rows, q->term, q->coef, q->node_end);
     for (int c = 0; c < 4; ++c) {
         q->node_sum[c] = positive(sum_at(q, c ? q->node_end[c - 1] : 0, q->node_end[c], total_offset(m)));

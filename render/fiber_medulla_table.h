@@ -28,7 +28,7 @@
 /* Resolution of the medulla table; 0 = the defaults of docs/fiber.md. */
 typedef struct plm_fiber_medulla_resolution {
     int theta_nodes, phi_nodes; /* view nodes over |theta_o| and phi_o (in the symmetry's range) */
-    int h_cells;                /* uniform in asin(h), as the other part's */
+    int h_cells;                /* uniform in asin(h), or asin(s) (below) */
     int theta_bins, phi_bins;   /* |theta_i| over [0, pi/2], phi_i over [-pi, pi) */
     int directions;             /* quasi-random diffuse directions per medulla point */
 } plm_fiber_medulla_resolution;
@@ -38,7 +38,12 @@ typedef struct plm_fiber_medulla_table {
     int symmetry;                     /* the fiber table's (render/fiber_table.h) */
     double theta_max, eta, u_last; /* theta_o nodes as the other part's (render/fiber_table.h) */
     double phi_lo, phi_step;
-    double *h_node; /* h_cells + 1 cell bounds */
+    /* Rotationally symmetric: the medulla's radius r. Paths meet the medulla
+     * only for |h| below h_reach (plm_fiber_medulla_reach), so rows run over
+     * s = h / h_reach, which puts the part's edge on a cell bound at every
+     * view (docs/fiber.md). 0: rows over h itself. */
+    double radius;
+    double *h_node; /* h_cells + 1 cell bounds (over s or h) */
     double *band_scale; /* per |theta_i| band, its width over the integral of cos(theta) across it */
     float *data;    /* per node, rows 0..h_cells, each: bands 0..theta_bins-1 of columns 0..phi_bins,
                      * then each band's total, RGB; points into the fiber table's data */
@@ -59,6 +64,13 @@ void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
 struct plm_fiber_table_options;
 plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
                                    const struct plm_fiber_table_options *o, double started, plm_error *err);
+
+/* The largest |h| whose paths meet the medulla, seen from |theta_o| of
+ * sine sin_theta and cosine cos_theta: min(1, r eta'), eta' the Bravais
+ * index sqrt(eta^2 - sin^2) / cos, for a rotationally symmetric table (a
+ * path refracted at offset h runs at distance |h| / eta' from the axis, and
+ * reflections keep that distance); 1 for any other. */
+double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_theta, double cos_theta);
 
 /* A prepared query: the weighted rows (terms) of the four view nodes around
  * wo whose sum is the mean over [h-, h+] between the nodes, as the other

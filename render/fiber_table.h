@@ -20,7 +20,7 @@
 #include "render/fiber.h"
 #include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 13
+#define PLM_FIBER_TABLE_VERSION 14
 /* |theta_o| of a table's limit node (plm_fiber_table.limit_node). */
 #define PLM_FIBER_THETA_LIMIT (89.9 * PLM_PI / 180.0)
 /* Default resolution aims at this many bytes per table. */
@@ -89,11 +89,12 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
 
 /* Shared by both parts' tables (fiber_medulla_table.c): h cell bounds
  * uniform in asin(h) (malloc'ed, NULL when out of memory) and the number of
- * h samples per cell the builds take (the same h in both parts, so their
- * energies add up); phi_o of the first node and the step between nodes for
- * a symmetry; the two phi_o nodes around a folded phi_o and the fraction
- * between them; and the wrapped Gaussian G_N's mass in each of `bins` bins
- * over [-pi, pi) times A, added to cell (RGB per bin). */
+ * h samples per cell the builds take (the same h in both parts where the
+ * medulla's rows run over h, so their energies add up); phi_o of the first
+ * node and the step between nodes for a symmetry; the two phi_o nodes
+ * around a folded phi_o and the fraction between them; and the wrapped
+ * Gaussian G_N's mass in each of `bins` bins over [-pi, pi) times A, added
+ * to cell (RGB per bin). */
 double *plm_fiber_h_nodes(int cells);
 /* The |theta_o| nodes of docs/fiber.md (denser toward grazing): u(theta), the
  * inverse Bravais index; the node coordinate (0 .. nodes - 1) of theta given

@@ -168,6 +168,63 @@ static void medulla_split_matches_trace(void **state)
     assert_true(checked >= 3);
 }
 
+/* A rotationally symmetric medulla part's rows run over s = h / h_reach,
+ * h_reach = min(1, r eta'(theta_o)) (docs/fiber.md), on the premise that
+ * paths meet the medulla exactly for |h| < h_reach: the tracer agrees just
+ * inside and outside it at several views, for a small and a large medulla
+ * (which every offset reaches toward grazing). Across that edge, the part's
+ * samples have the density pdf says (one chi-square test). */
+static void medulla_reach_matches_trace(void **state)
+{
+    (void)state;
+    static const double radius[2] = {0.22, 0.6}, theta_o[5] = {0.0, 0.4, 0.9, 1.3, 1.52};
+    plm_fiber_lobe lobes[5];
+    int outside = 0, everywhere = 0;
+    for (int i = 0; i < 2; ++i) {
+        plm_fiber_params p;
+        plm_fiber_params_figure7(&p, 2);
+        p.eccentricity = 1.0;
+        p.eta = 1.49 + 0.06 * i;
+        p.medulla_a = p.medulla_b = radius[i];
+        plm_fiber_table_options o = {0};
+        plm_fiber_table t;
+        plm_fiber_table_layout(&p, &o, &t);
+        assert_int_equal(t.symmetry, PLM_FIBER_TABLE_ROTATIONAL);
+        for (int k = 0; k < 5; ++k) {
+            vec3 wo = plm_fiber_direction(theta_o[k], 0.3 + k);
+            double reach = plm_fiber_medulla_reach(&t.medulla, sin(theta_o[k]), cos(theta_o[k]));
+            plm_fiber_medulla_hit hit;
+            for (int sign = -1; sign <= 1; sign += 2) {
+                assert_true(plm_fiber_trace_to_medulla(&p, wo, sign * reach * (1.0 - 1e-6), lobes, &hit));
+                if (reach < 1.0) {
+                    assert_false(plm_fiber_trace_to_medulla(&p, wo, sign * reach * (1.0 + 1e-6), lobes, &hit));
+                    assert_false(plm_fiber_trace_to_medulla(&p, wo, sign * 0.5 * (1.0 + reach), lobes, &hit));
+                    ++outside;
+                } else {
+                    ++everywhere;
+                }
+            }
+        }
+    }
+    assert_true(outside >= 10 && everywhere >= 2);
+    /* The small medulla seen at 0.4 rad (h_reach 0.34), an interval across its edge. */
+    plm_fiber_params p;
+    plm_fiber_params_figure7(&p, 2);
+    p.eccentricity = 1.0;
+    p.medulla_a = p.medulla_b = 0.22;
+    plm_fiber_table_options o = test_options(NULL, 7, 1, 16, 96);
+    plm_fiber_table *t = get_table(&p, &o);
+    plm_rng rng;
+    plm_rng_seed(&rng, 12, 0);
+    plm_fiber_bcsdf b;
+    plm_fiber_bcsdf_prepare(&p, t, plm_fiber_direction(0.4, 1.0), -0.1, 0.6, NULL, &b);
+    double pv = bcsdf_chi_square(&b, &rng, 300000);
+    fprintf(stderr, "chi-square across the medulla's reach (share without it %.3f): p-value %.4f\n", b.pick_table, pv);
+    assert_true(b.pick_table < 0.95);
+    assert_true(pv > 0.01);
+    plm_fiber_table_free(t);
+}
+
 /* The lobe energy over [hmin, hmax] (4000 strata) of a white fiber seen from wo. */
 static double white_energy(const plm_fiber_params *p, vec3 wo, double hmin, double hmax)
 {
@@ -219,7 +276,9 @@ static void white_furnace(void **state)
  * printed), and the pdf integrates to 1. How the energy splits between the
  * two parts changes fast with phi_o in an elliptical fiber, so the two
  * tables share their view nodes here: then the interpolated energies add
- * up (to the h cells' sub-sampling) and the test checks the parts' normalisation, not the
+ * up (to how finely the other part's h cells resolve where paths start
+ * meeting the medulla, which the concentric medulla's rows put on a cell
+ * bound) and the test checks the parts' normalisation, not the
  * interpolation (whose error slow_fiber_table measures). */
 static void white_furnace_medulla(void **state)
 {
@@ -628,6 +687,7 @@ int main(void)
         cmocka_unit_test(medulla_override_over_budget),
         cmocka_unit_test(circular_fiber_matches_h_mean),
         cmocka_unit_test(medulla_split_matches_trace),
+        cmocka_unit_test(medulla_reach_matches_trace),
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(white_furnace_medulla),
         cmocka_unit_test(moving_lobes_sampling_matches_pdf),
