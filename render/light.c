@@ -74,10 +74,18 @@ vec2 plm_envmap_uv(double rotation, vec3 d)
     return v2(u, plm_safe_acos(d.y) / PLM_PI);
 }
 
-vec3 plm_envmap_direction(double rotation, vec2 uv)
+/* The direction of uv and its sin(theta), which a density over the sphere divides by. */
+static vec3 envmap_direction(double rotation, vec2 uv, double *sin_theta)
 {
     double theta = PLM_PI * uv.y, phi = PLM_TWO_PI * (uv.x - 0.5) + rotation;
-    return v3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+    *sin_theta = sin(theta);
+    return v3(*sin_theta * sin(phi), cos(theta), -*sin_theta * cos(phi));
+}
+
+vec3 plm_envmap_direction(double rotation, vec2 uv)
+{
+    double sin_theta;
+    return envmap_direction(rotation, uv, &sin_theta);
 }
 
 /* Texel holding uv: the piecewise-constant lookup that the sampling density matches. */
@@ -157,11 +165,12 @@ int plm_light_sample_from(const plm_render_light *l, vec3 p, double u1, double u
         int y = plm_distribution1d_sample(&env->marginal, u1, &rv);
         int x = plm_distribution1d_sample(&env->conditional[y], u2, &ru);
         vec2 uv = v2((x + ru) / env->image->width, (y + rv) / env->image->height);
-        s->wi = plm_envmap_direction(desc->rotation, uv);
+        double sin_theta;
+        s->wi = envmap_direction(desc->rotation, uv, &sin_theta);
         /* The sampled texel's radiance and density, which a lookup of wi finds
          * again but for rounding at the texel's edges. */
         s->radiance = rgb_mul(desc->radiance, texel_rgb(env->image, x, y));
-        s->pdf = envmap_texel_pdf(env, x, y, sin(PLM_PI * uv.y));
+        s->pdf = envmap_texel_pdf(env, x, y, sin_theta);
         return s->pdf > 0.0;
     }
     case PLM_LIGHT_DISTANT:
