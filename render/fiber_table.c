@@ -897,8 +897,9 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
     double w = bin_width(t), x = (delta + PLM_PI) / w;
     int bin = (int)floor(x);
     bin = bin < 0 ? 0 : bin >= n ? n - 1 : bin;
-    double m[3][3] = {{0.0}}, mass = 0.0, moving[4];
-    moving_density(q, delta, moving);
+    double m[3][3] = {{0.0}}, mass = 0.0, moving[4] = {0.0};
+    if (q->moving_count > 0) /* only circular fibers' partial cells have moving lobes */
+        moving_density(q, delta, moving);
     if (!f) {
         if (q->terms > 0)
             mass = column_mean(q, bin + 1) - column_mean(q, bin);
