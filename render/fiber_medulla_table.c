@@ -581,6 +581,8 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
     q->table = m;
     q->phi_o = v->phi_o;
     q->flip = v->flip;
+    q->band_width = HALF_PI / m->res.theta_bins;
+    q->bin_width = PLM_TWO_PI / m->res.phi_bins;
     q->origin = m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? 0.0 : v->phi;
     int n = m->res.theta_nodes, nodes[4];
     double w[4], ft = fabs(v->theta_o) < m->theta_max ? plm_fiber_theta_coordinate(m->eta, m->u_last, m->theta_max, n,
@@ -653,7 +655,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         return;
     const plm_fiber_medulla_table *m = q->table;
     int bands = m->res.theta_bins, cols = m->res.phi_bins;
-    double wa = HALF_PI / bands, wc = PLM_TWO_PI / cols, theta = fabs(angles[0]), ct = angles[2];
+    double wa = q->band_width, wc = q->bin_width, theta = fabs(angles[0]), ct = angles[2];
     double phi = wrap_pi(q->origin + angles[1]);
     /* Bin centres around wi: below band 0's centre the density is flat (the
      * mirror image of band 0 is itself); beyond the last band's it is
@@ -736,9 +738,9 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     /* Kept off the bins' edges by far more than rounding moves an angle, so
      * that the lookup at these angles finds this bin (pdf = the sampler's). */
     double v = u1 < 0.5 ? 2.0 * u1 : 2.0 * u1 - 1.0, edge = 1e-9;
-    double theta = (u1 < 0.5 ? -1.0 : 1.0) * (a + plm_clamp(v, edge, 1.0 - edge)) * (HALF_PI / bands);
+    double theta = (u1 < 0.5 ? -1.0 : 1.0) * (a + plm_clamp(v, edge, 1.0 - edge)) * q->band_width;
     double frac = plm_clamp((goal - x0) / (x1 - x0), edge, 1.0 - edge);
-    double delta = wrap_pi(-PLM_PI + (lo + frac) * (PLM_TWO_PI / cols) - q->origin);
+    double delta = wrap_pi(-PLM_PI + (lo + frac) * q->bin_width - q->origin);
     *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
     angles[0] = theta;
     angles[1] = delta;

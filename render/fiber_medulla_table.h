@@ -86,6 +86,7 @@ typedef struct plm_fiber_medulla_query {
     double sum;         /* the part's energy: the nodes' sum ... */
     double total;       /* ... and its mean of RGB */
     double phi_o;  /* of wo */
+    double band_width, bin_width; /* of a |theta_i| band and a phi_i bin */
     double origin; /* the columns' azimuth is the relative azimuth delta (below) plus this */
 } plm_fiber_medulla_query;
 

@@ -760,6 +760,7 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
 {
     q->theta_o = v->theta_o;
     q->phi_o = v->phi_o;
+    q->bin_width = bin_width(t);
     q->flip = v->flip;
     plm_fiber_gm_detector_about(t->params.beta_m, -q->theta_o, &q->gm);
     double ft = theta_coordinate(t, fabs(q->theta_o), v->sin_theta, v->cos_theta);
@@ -894,7 +895,7 @@ static void table_lookup_angles(const plm_fiber_table_query *q, double theta, do
     if (gm == 0.0)
         return;
     int n = t->phi_bins;
-    double w = bin_width(t), x = (delta + PLM_PI) / w;
+    double w = q->bin_width, x = (delta + PLM_PI) / w;
     int bin = (int)floor(x);
     bin = bin < 0 ? 0 : bin >= n ? n - 1 : bin;
     double m[3][3] = {{0.0}}, mass = 0.0, moving[4] = {0.0};
@@ -962,7 +963,7 @@ static int table_sample(const plm_fiber_table_query *q, double u0, double u1, do
         /* Kept off the bin's edges by far more than rounding moves an angle, so
          * that wi's own angles find this bin again (pdf(wi) = the record's pdf). */
         double frac = plm_clamp((target - a) / (b - a), 1e-9, 1.0 - 1e-9);
-        *delta = -PLM_PI + (lo + frac) * bin_width(t);
+        *delta = -PLM_PI + (lo + frac) * q->bin_width;
     } else {
         target -= q->rows_total;
         int i = 0;

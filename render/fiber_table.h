@@ -186,7 +186,7 @@ typedef struct plm_fiber_table_query {
     double rows_total;       /* the whole cells' energy (mean of RGB) */
     double total;            /* the part's energy (mean of RGB), for sampling */
     int flip;                /* mirrored node: azimuths relative to phi_o change sign */
-    double theta_o, phi_o;
+    double theta_o, phi_o, bin_width;
     plm_fiber_gm_detector gm; /* G_M about -theta_o, for eval and sampling */
 } plm_fiber_table_query;
 
