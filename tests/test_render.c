@@ -229,6 +229,21 @@ static void transparent_shadows_agree_with_stochastic_passing(void **state)
     plm_scene_free(&s);
 }
 
+/* A plm_passing draw that counts its calls and gives its seed and shift. */
+typedef struct counted_numbers {
+    int draws;
+    uint64_t seed;
+    double shift;
+} counted_numbers;
+
+static void draw_counted(void *arg, uint64_t *seed, double *shift)
+{
+    counted_numbers *c = arg;
+    ++c->draws;
+    *seed = c->seed;
+    *shift = c->shift;
+}
+
 /* Shadow rays through a stack of partly transmissive sheets, instanced and
  * not, masked and not: the product of their transmissions, up to the first
  * opaque one; the order the filter meets them in does not matter. */
@@ -279,6 +294,24 @@ static void transmittance_through_stacked_sheets(void **state)
         fail_msg("passing: stopped at the sheets %.0f %.0f %.0f %.0f times, expected %.0f %.0f %.0f %.0f (p %.5f)",
                  observed[0], observed[1], observed[2], observed[3], expected[0], expected[1], expected[2],
                  expected[3], pv);
+    /* Numbers drawn on demand: never for a ray that meets no sheet, once for
+     * one that passes some, which then stops where the same numbers given up
+     * front stop it. */
+    for (int k = 0; k < SHIFTS; ++k) {
+        counted_numbers c = {0, plm_hash64(41, 7, 0), (k + 0.5) / SHIFTS};
+        double t_drawn = 0.0, t_given = 0.0;
+        plm_passing drawn = {0, 0.0, draw_counted, &c}, given = {c.seed, c.shift, NULL, NULL};
+        plm_hit hit;
+        assert_false(plm_world_intersect_passing(&w, v3(0.1, 0.2, 1), v3(0, 0, 1), INFINITY, &drawn, 0.0, &t_drawn,
+                                                 &hit));
+        assert_int_equal(c.draws, 0);
+        assert_true(plm_world_intersect_passing(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &drawn, 0.0, &t_drawn,
+                                                &hit));
+        assert_int_equal(c.draws, 1);
+        assert_true(plm_world_intersect_passing(&w, v3(0.1, 0.2, 1), v3(0, 0, -1), INFINITY, &given, 0.0, &t_given,
+                                                &hit));
+        assert_double_near(t_drawn, t_given, 0.0);
+    }
     plm_world_free(&w);
     plm_scene_free(&s);
 }
