@@ -102,6 +102,7 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->theta_max = plm_radians(89.0);
     m->eta = p->eta;
     m->radius = symmetry == PLM_FIBER_TABLE_ROTATIONAL ? p->medulla_a : 0.0;
+    m->per_theta = HALF_PI / m->res.theta_bins < p->beta_m;
     m->u_last = plm_fiber_theta_u(p->eta, m->theta_max);
     plm_fiber_phi_nodes(symmetry, m->res.phi_nodes, &m->phi_lo, &m->phi_step);
     m->floats = node_floats(m) * (size_t)node_count(m);
@@ -117,7 +118,7 @@ plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
     double w = HALF_PI / m->res.theta_bins;
     for (int a = 0; a < m->res.theta_bins; ++a)
-        m->band_scale[a] = w / (sin((a + 1) * w) - sin(a * w));
+        m->band_scale[a] = m->per_theta ? 1.0 : w / (sin((a + 1) * w) - sin(a * w));
     return PLM_OK;
 }
 
@@ -659,12 +660,16 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
     double phi = wrap_pi(q->origin + angles[1]);
     /* Bin centres around wi: below band 0's centre the density is flat (the
      * mirror image of band 0 is itself); beyond the last band's it is
-     * extrapolated linearly; columns wrap. What is interpolated is each
-     * bin's density per solid angle (its mass over the integral of
-     * cos(theta) across it), which stays finite toward the poles, where
-     * the mass per unit theta falls like cos(theta) and eval's
-     * 1 / cos^2(theta_i) magnifies any error in it. The bin holding wi, the
-     * pdf's, is one of the four. */
+     * extrapolated linearly; columns wrap. What is interpolated is the one
+     * of two quantities that is smooth up to the fiber's axis, where eval's
+     * 1 / cos^2(theta_i) magnifies any error. Where bands are wider than
+     * the detector's beta_m, the lobes' mass per unit theta falls like
+     * cos(theta) toward the axis: each bin's density per solid angle (its
+     * mass over the integral of cos(theta) across it) stays finite. Where
+     * they are narrower, the detector spreads light right up to the axis:
+     * the mass per unit theta stays finite, and the density per solid angle
+     * grows like 1 / cos(theta), which interpolation overshoots. The bin
+     * holding wi, the pdf's, is one of the four. */
     double ya = theta / wa, xa = ya - 0.5, xc = (phi + PLM_PI) / wc - 0.5, flc = floor(xc);
     /* phi in [-pi, pi] puts flc in [-1, cols - 1]: wrapped without a division */
     int a0 = xa < 0.0 ? 0 : (int)xa, c0 = flc < 0.0 ? cols - 1 : (int)flc, c1 = c0 == cols - 1 ? 0 : c0 + 1;
@@ -681,7 +686,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
             double hi0 = col[1][1][ch] - col[1][0][ch], hi1 = col[1][3][ch] - col[1][2][ch];
             double lo = (lo0 + (lo1 - lo0) * fc) * m->band_scale[a0];
             double hi = (hi0 + (hi1 - hi0) * fc) * m->band_scale[a0 + 1];
-            v[ch] = positive((lo * (1.0 - fa) + hi * fa) / (area * ct));
+            v[ch] = positive((lo * (1.0 - fa) + hi * fa) / (area * (m->per_theta ? ct * ct : ct)));
         }
         *f = rgb_make(v[0], v[1], v[2]);
         const double(*x)[3] = col[in_a - a0] + 2 * in_c;

@@ -44,7 +44,13 @@ typedef struct plm_fiber_medulla_table {
      * view (docs/fiber.md). 0: rows over h itself. */
     double radius;
     double *h_node; /* h_cells + 1 cell bounds (over s or h) */
-    double *band_scale; /* per |theta_i| band, its width over the integral of cos(theta) across it */
+    /* What eval interpolates between bin centres: 1, each bin's mass per unit
+     * theta_i (bands narrower than beta_m); 0, its density per solid angle
+     * (docs/fiber.md). band_scale: per |theta_i| band, what turns its mass
+     * into the quantity interpolated, times the band's width: 1, or its
+     * width over the integral of cos(theta) across it. */
+    int per_theta;
+    double *band_scale;
     float *data;    /* per node, rows 0..h_cells, each: bands 0..theta_bins-1 of columns 0..phi_bins,
                      * then each band's total, RGB; points into the fiber table's data */
     size_t floats;

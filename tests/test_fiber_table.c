@@ -287,7 +287,12 @@ static void white_furnace_medulla(void **state)
     o.medulla.theta_nodes = o.theta_nodes, o.medulla.phi_nodes = o.phi_nodes, o.medulla.h_cells = o.h_cells;
     for (int e = 0; e < 2; ++e) {
         plm_fiber_params p = white_fiber(e ? 3 : 2, e ? 1.6 : 1.0);
+        /* The concentric fiber's bands narrower than beta_m, the other's
+         * wider: eval interpolates the mass per unit theta, or the density
+         * per solid angle (docs/fiber.md). */
+        o.medulla.theta_bins = e ? 9 : 18;
         plm_fiber_table *t = get_table(&p, &o);
+        assert_int_equal(t->medulla.per_theta, !e);
         plm_rng rng;
         plm_rng_seed(&rng, 14, (uint64_t)e);
         plm_fiber_lobe lobes[5];
