@@ -58,11 +58,12 @@ static int node_count(const plm_fiber_medulla_table *m) { return m->res.theta_no
  * classes spend the memory differently (docs/fiber.md has the errors). */
 enum { DEFAULT_ROTATIONAL, DEFAULT_BOTH_MIRRORS, DEFAULT_WIDE };
 static const plm_fiber_medulla_resolution default_resolution[] = {
-    /* Rotationally symmetric: one phi_o node. The error is the |theta_i|
-     * bands' linear interpolation (24 bands of 3.75 deg halve it against
-     * 12) and, for a small medulla, the h cells (72 cells and 9 |theta_o|
-     * nodes do better than 48 and 13 in the same memory). */
-    [DEFAULT_ROTATIONAL] = {.theta_nodes = 9, .phi_nodes = 1, .h_cells = 72, .theta_bins = 24, .phi_bins = 24,
+    /* Rotationally symmetric: one phi_o node. 24 |theta_i| bands of 3.75
+     * deg halve the error against 12; the rows over s = h / h_reach need
+     * few h cells (32 do as well as 72), which leaves room for 48 phi_i
+     * bins (7.5 deg; they help detectors of 6-15 deg most) and 10
+     * |theta_o| nodes. */
+    [DEFAULT_ROTATIONAL] = {.theta_nodes = 10, .phi_nodes = 1, .h_cells = 32, .theta_bins = 24, .phi_bins = 48,
                             .directions = 4096},
     /* Both mirrors: the phi_o nodes over a quarter turn are dense already,
      * and 12 bands with 7 |theta_o| nodes did better than 6 bands with more
@@ -549,6 +550,10 @@ static double sum_at(const plm_fiber_medulla_query *q, int k0, int k1, size_t o)
     return r + g + b;
 }
 
+/* asin of s in [-1, 1]; the ends, where intervals reaching past h_reach
+ * clamp, without a library call. */
+static double clamped_asin(double s) { return s == 1.0 ? HALF_PI : s == -1.0 ? -HALF_PI : asin(s); }
+
 /* The rows and coefficients whose combination is the part's mean over the
  * view's interval [h-, h+]. Rows over s = h / h_reach hold the integral
  * over s of the part g(s) = f(h_reach s): the mean of f over [h-, h+] is
@@ -556,16 +561,16 @@ static double sum_at(const plm_fiber_medulla_query *q, int k0, int k1, size_t o)
  * clamped to [-1, 1], where g is 0), and at a point f(h) = g(s). */
 static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view *v, plm_fiber_h_rows *rows)
 {
-    if (m->radius == 0.0) {
+    double reach = plm_fiber_medulla_reach(m, v->sin_theta, v->cos_theta), width = v->hmax - v->hmin;
+    if (reach == 1.0) { /* s = h */
         plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, rows);
         return;
     }
-    double reach = plm_fiber_medulla_reach(m, v->sin_theta, v->cos_theta), width = v->hmax - v->hmin;
     plm_fiber_view s = *v;
     s.hmin = plm_clamp(v->hmin / reach, -1.0, 1.0);
     s.hmax = plm_clamp(v->hmax / reach, -1.0, 1.0);
-    s.asin_hmin = asin(s.hmin);
-    s.asin_hmax = asin(s.hmax);
+    s.asin_hmin = clamped_asin(s.hmin);
+    s.asin_hmax = clamped_asin(s.hmax);
     plm_fiber_interval_rows(m->h_node, m->res.h_cells, &s, rows);
     double scale = width < 1e-9 ? fabs(v->hmin) < reach : reach * (s.hmax - s.hmin) / width;
     for (int r = 0; r < rows->n; ++r)

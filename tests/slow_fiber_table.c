@@ -9,8 +9,9 @@
  * part without the medulla meets it for every rotationally symmetric fiber
  * (their partial h cells are integrated as moving lobes) and for no
  * elliptical one, whose tables blend neighbouring view nodes and smear
- * lobes that move fast with the view; the medulla's part is near or above
- * 1% (docs/fiber.md has the figures per fiber and per error source). So
+ * lobes that move fast with the view; the medulla's part meets it for the
+ * rotationally symmetric fibers and not for elliptical ones (docs/fiber.md
+ * has the figures per fiber and per error source). So
  * this test carries the ctest label `target`: .ci/run reports it as a
  * target not yet met instead of failing on it. */
 #include <setjmp.h>
