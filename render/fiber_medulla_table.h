@@ -9,7 +9,8 @@
  * quasi-random diffuse directions per medulla point), then, per view node
  * (|theta_o|, phi_o), deposits the emission of the points the deterministic
  * paths reach into a table over (h, |theta_i|, phi_i), cumulative in h and
- * in phi_i. phi_i is the fiber frame's (folded by the mirrors with wo), as
+ * in phi_i (over s = h / h_reach instead of h for a rotationally symmetric
+ * fiber, below). phi_i is the fiber frame's (folded by the mirrors with wo), as
  * the emission is anchored to the fiber, not to the view; for a
  * rotationally symmetric fiber (one view node) it is phi_i - phi_o. The
  * part is symmetric in theta_i (a
