@@ -224,6 +224,9 @@ static void separable_detectors_match_eval(void **state)
     }
 }
 
+/* pi in long double, for references a few ulp of a double apart. */
+static const long double PI_L = 3.14159265358979323846264338327950288L;
+
 /* The standard normal's CDF at x in long double, from the upper tail
  * where x > 0 (1 - CDF) so that no digits cancel: CDF(x) if upper is 0. */
 static long double normal_tail(long double x, int upper)
@@ -253,7 +256,7 @@ static void samplers_invert_their_cdfs(void **state)
         long double root = x;
         for (int k = 0; k < 3; ++k) /* the density at the root: exp(-x^2/2) / sqrt(2 pi) */
             root -= (upper ? -1.0L : 1.0L) * (normal_tail(root, upper) - goal) /
-                    (expl(-0.5L * root * root) / sqrtl(2.0L * 3.14159265358979323846264338327950288L));
+                    (expl(-0.5L * root * root) / sqrtl(2.0L * PI_L));
         double ulp = nextafter(fabs((double)root), INFINITY) - fabs((double)root);
         worst = fmax(worst, (double)(fabsl(x - root) / ulp));
     }
@@ -264,9 +267,8 @@ static void samplers_invert_their_cdfs(void **state)
         for (int t = 0; t < 3; ++t) {
             plm_fiber_gm_detector g;
             plm_fiber_gm_detector_about(betas[b], thetas[t], &g);
-            long double s = sqrtl(2.0L) * betas[b], lo = erfl((-0.5L * 3.14159265358979323846264338327950288L -
-                                                                 thetas[t]) / s);
-            long double hi = erfl((0.5L * 3.14159265358979323846264338327950288L - thetas[t]) / s);
+            long double s = sqrtl(2.0L) * betas[b], lo = erfl((-0.5L * PI_L - thetas[t]) / s);
+            long double hi = erfl((0.5L * PI_L - thetas[t]) / s);
             for (int i = 0; i < 2000; ++i) {
                 double u = (i + plm_rng_uniform(&rng)) / 2000.0;
                 double theta = plm_fiber_sample_gm(&g, thetas[t], betas[b], u);
@@ -274,8 +276,8 @@ static void samplers_invert_their_cdfs(void **state)
                 /* u maps to erf's range to a few ulp of 1, and theta, Theta plus the
                  * scaled quantile, rounds to a few of its ulp: times the density */
                 double big = fmax(fabs(theta), fabs(thetas[t])), ulp = nextafter(big, INFINITY) - big;
-                double density = (double)(2.0L / ((hi - lo) * s * sqrtl(3.14159265358979323846264338327950288L)) *
-                                          expl(-plm_sqr((theta - thetas[t]) / (double)s)));
+                double density =
+                    (double)(2.0L / ((hi - lo) * s * sqrtl(PI_L)) * expl(-plm_sqr((theta - thetas[t]) / (double)s)));
                 assert_double_near((double)cdf, u, 4.0 * DBL_EPSILON + 4.0 * ulp * density);
             }
         }
