@@ -533,8 +533,6 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
 
 static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
-static double positive(double x) { return x > 0.0 ? x : 0.0; }
-
 /* The sum of the RGB at offset o (a column: the sampler's cumulative row;
  * a band's or the row's total) over terms k0 .. k1 - 1. */
 static double sum_at(const plm_fiber_medulla_query *q, int k0, int k1, size_t o)
@@ -572,7 +570,9 @@ static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view
     s.asin_hmin = clamped_asin(s.hmin);
     s.asin_hmax = clamped_asin(s.hmax);
     plm_fiber_interval_rows(m->h_node, m->res.h_cells, &s, rows);
-    double scale = width < 1e-9 ? fabs(v->hmin) < reach : reach * (s.hmax - s.hmin) / width;
+    /* A point (plm_fiber_interval_rows' threshold) takes g(s) as it is, or 0 beyond the reach,
+     * where s was clamped onto the last cell. */
+    double scale = width < 1e-9 ? (fabs(v->hmin) < reach ? 1.0 : 0.0) : reach * (s.hmax - s.hmin) / width;
     for (int r = 0; r < rows->n; ++r)
         rows->coef[r] *= scale;
 }
@@ -600,7 +600,7 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
     interval_rows(m, v, &rows);
     q->terms = plm_fiber_terms(m->data, node_floats(m), row_floats(m), nodes, w, &rows, q->term, q->coef, q->node_end);
     for (int c = 0; c < 4; ++c) {
-        q->node_sum[c] = positive(sum_at(q, c ? q->node_end[c - 1] : 0, q->node_end[c], total_offset(m)));
+        q->node_sum[c] = plm_positive(sum_at(q, c ? q->node_end[c - 1] : 0, q->node_end[c], total_offset(m)));
         q->sum += q->node_sum[c];
     }
     q->total = q->sum / 3.0;
@@ -691,7 +691,9 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
             double hi0 = col[1][1][ch] - col[1][0][ch], hi1 = col[1][3][ch] - col[1][2][ch];
             double lo = (lo0 + (lo1 - lo0) * fc) * m->band_scale[a0];
             double hi = (hi0 + (hi1 - hi0) * fc) * m->band_scale[a0 + 1];
-            v[ch] = positive((lo * (1.0 - fa) + hi * fa) / (area * (m->per_theta ? ct * ct : ct)));
+            /* Over area: a density per solid angle, or (per_theta) per unit theta and phi, which
+             * one more 1 / cos(theta_i) turns into one per solid angle; the last is eval's. */
+            v[ch] = plm_positive((lo * (1.0 - fa) + hi * fa) / (area * (m->per_theta ? ct * ct : ct)));
         }
         *f = rgb_make(v[0], v[1], v[2]);
         const double(*x)[3] = col[in_a - a0] + 2 * in_c;
@@ -702,7 +704,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
                sum_at(q, 0, q->terms, column_offset(q, in_a, bin));
     }
     /* The sampler never picks a bin of no mass (or less, by rounding). */
-    *pdf = positive(mass) / (q->sum * area * ct);
+    *pdf = plm_positive(mass) / (q->sum * area * ct);
 }
 
 int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
@@ -727,7 +729,7 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
         mass = sum_at(q, k0, k1, band_offset(m) + 3 * (size_t)a);
         if (target < mass || a == bands - 1)
             break;
-        target -= positive(mass);
+        target -= plm_positive(mass);
     }
     if (!(mass > 0.0))
         return 0;
