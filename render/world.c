@@ -95,8 +95,9 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
         if (!ctx->transparent && !ctx->passing)
             continue;
         plm_hit h;
-        /* In instances the ray arrives in object space; its parameter t is the world one. What
-         * the passing needs; the hit kept is finished once the query ends (intersect). */
+        /* In instances the ray arrives in object space; its parameter t is the world one.
+         * fill_hit sets what the passing needs; intersect finishes the hit kept (its
+         * pigment) once the query ends, so surfaces passed never pay for that. */
         fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], proto->mask ? &site : NULL,
                  cone_width(ctx, ray[8 * n + i]), v3_neg(ctx->back), &h);
         double tr = plm_material_transmission_keep(&h, ctx->back);
