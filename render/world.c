@@ -55,7 +55,8 @@ static double cone_width(const query_context *ctx, double t) { return ctx->sprea
 /* The uniform that decides whether a ray passes a surface: one per surface,
  * from its identity rather than from the order Embree reports candidates in,
  * so that every surface nearer than the hit kept was reported and passed, and
- * the kept hit is distributed as when tracing one crossing at a time. */
+ * the kept hit is distributed as when tracing one crossing at a time. The
+ * query's seed and shift are drawn here on first need (plm_passing). */
 static double passing_uniform(plm_passing *numbers, unsigned inst, unsigned prim)
 {
     if (numbers->draw) {
