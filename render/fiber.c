@@ -17,6 +17,15 @@
 #define SQRT_2PI 2.50662827463100050242
 #define HALF_PI (0.5 * PLM_PI)
 
+/* c[0] + c[1] t + ... + c[n - 1] t^(n - 1), by Horner's rule. */
+static double polynomial(const double *c, int n, double t)
+{
+    double p = c[n - 1];
+    for (int i = n - 2; i >= 0; --i)
+        p = p * t + c[i];
+    return p;
+}
+
 /* A first guess at erfinv(y), relative error below 3.2e-8: with
  * w = -log(1 - y^2), erfinv(y) / y as a polynomial in t = w - 2.5 for w < 5
  * (|y| < 0.9966; degree 9) and in t = sqrt(w) - 4.125 beyond, up to w = 36
@@ -35,12 +44,9 @@ static double erfinv_guess(double y)
                                     -1.222834500151884e-05, 3.560271971162274e-06,  9.712200729772167e-07,
                                     -4.249644392272747e-07};
     double w = -log((1.0 - y) * (1.0 + y));
-    const double *c = w < 5.0 ? centre : tail;
-    int n = w < 5.0 ? 10 : 13;
-    double t = w < 5.0 ? w - 2.5 : sqrt(w) - 4.125, poly = c[n - 1];
-    for (int i = n - 2; i >= 0; --i)
-        poly = poly * t + c[i];
-    return y * poly;
+    if (w < 5.0)
+        return y * polynomial(centre, 10, w - 2.5);
+    return y * polynomial(tail, 13, sqrt(w) - 4.125);
 }
 
 /* Inverse error function: the guess polished by one Halley step on erf, or
