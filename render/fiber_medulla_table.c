@@ -570,9 +570,9 @@ static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view
     s.asin_hmin = clamped_asin(s.hmin);
     s.asin_hmax = clamped_asin(s.hmax);
     plm_fiber_interval_rows(m->h_node, m->res.h_cells, &s, rows);
-    /* A point (plm_fiber_interval_rows' threshold) takes g(s) as it is, or 0 beyond the reach,
-     * where s was clamped onto the last cell. */
-    double scale = width < 1e-9 ? (fabs(v->hmin) < reach ? 1.0 : 0.0) : reach * (s.hmax - s.hmin) / width;
+    /* A point takes g(s) as it is, or 0 beyond the reach, where s was clamped onto the last cell. */
+    double scale =
+        width < PLM_FIBER_POINT_WIDTH ? (fabs(v->hmin) < reach ? 1.0 : 0.0) : reach * (s.hmax - s.hmin) / width;
     for (int r = 0; r < rows->n; ++r)
         rows->coef[r] *= scale;
 }

@@ -532,7 +532,7 @@ void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_vi
     int j0 = h_cell(h_node, cells, v->hmin, v->asin_hmin, &f0), j1 = h_cell(h_node, cells, v->hmax, v->asin_hmax, &f1);
     l->n = 0;
     double width = v->hmax - v->hmin;
-    if (width < 1e-9) { /* the density at a point: its cell's */
+    if (width < PLM_FIBER_POINT_WIDTH) { /* the density at a point: its cell's */
         double inv = 1.0 / (h_node[j0 + 1] - h_node[j0]);
         add_row(l, j0 + 1, inv);
         add_row(l, j0, -inv);
@@ -743,7 +743,7 @@ static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, c
     double f0, f1, hmin = v->hmin, hmax = v->hmax, width = hmax - hmin;
     int j0 = h_cell(t->h_node, t->h_cells, hmin, v->asin_hmin, &f0);
     int j1 = h_cell(t->h_node, t->h_cells, hmax, v->asin_hmax, &f1);
-    if (width < 1e-9) {
+    if (width < PLM_FIBER_POINT_WIDTH) {
         add_piece(t, nodes, w, j0, f0, f0, 1.0, rows, q);
     } else if (j0 == j1) {
         add_piece(t, nodes, w, j0, f0, f1, 1.0, rows, q);

@@ -133,6 +133,10 @@ typedef struct plm_fiber_h_rows {
     double coef[4];
     int n;
 } plm_fiber_h_rows;
+/* An h-interval narrower than this counts as a point (the density at its
+ * h): the mean over an interval divides by its width, 0 / 0 at a point and
+ * mostly rounding near one. */
+#define PLM_FIBER_POINT_WIDTH 1e-9
 void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *rows);
 void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
                        double phi, int nodes[4], double w[4]);
