@@ -184,7 +184,7 @@ static void medulla_reach_matches_trace(void **state)
         plm_fiber_params p;
         plm_fiber_params_figure7(&p, 2);
         p.eccentricity = 1.0;
-        p.eta = 1.49 + 0.06 * i;
+        p.eta = 1.49 + 0.06 * i; /* two indices: h_reach = r eta' depends on eta too */
         p.medulla_a = p.medulla_b = radius[i];
         plm_fiber_table_options o = {0};
         plm_fiber_table t;
