@@ -25,6 +25,8 @@ static inline double plm_positive(double x) { return x > 0.0 ? x : 0.0; }
 static inline double plm_safe_sqrt(double x) { return x > 0.0 ? sqrt(x) : 0.0; }
 static inline double plm_safe_asin(double x) { return asin(plm_clamp(x, -1.0, 1.0)); }
 static inline double plm_safe_acos(double x) { return acos(plm_clamp(x, -1.0, 1.0)); }
+/* An angle wrapped into [-pi, pi), from any number of turns away. */
+static inline double plm_wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
 static inline vec2 v2(double x, double y) { vec2 v = {x, y}; return v; }
 static inline vec2 v2_add(vec2 a, vec2 b) { return v2(a.x + b.x, a.y + b.y); }

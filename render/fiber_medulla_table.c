@@ -531,8 +531,6 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
  * those three sums, so that a band's mass is exactly the end of its
  * cumulative row. */
 
-static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
-
 /* The sum of the RGB at offset o (a column: the sampler's cumulative row;
  * a band's or the row's total) over terms k0 .. k1 - 1. */
 static double sum_at(const plm_fiber_medulla_query *q, int k0, int k1, size_t o)
@@ -662,7 +660,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
     const plm_fiber_medulla_table *m = q->table;
     int bands = m->res.theta_bins, cols = m->res.phi_bins;
     double wa = q->band_width, wc = q->bin_width, theta = fabs(angles[0]), ct = angles[2];
-    double phi = wrap_pi(q->origin + angles[1]);
+    double phi = plm_wrap_pi(q->origin + angles[1]);
     /* Bin centres around wi: below band 0's centre the density is flat (the
      * mirror image of band 0 is itself); beyond the last band's it is
      * extrapolated linearly; columns wrap. What is interpolated is the one
@@ -752,7 +750,7 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     double v = u1 < 0.5 ? 2.0 * u1 : 2.0 * u1 - 1.0, edge = 1e-9;
     double theta = (u1 < 0.5 ? -1.0 : 1.0) * (a + plm_clamp(v, edge, 1.0 - edge)) * q->band_width;
     double frac = plm_clamp((goal - x0) / (x1 - x0), edge, 1.0 - edge);
-    double delta = wrap_pi(-PLM_PI + (lo + frac) * q->bin_width - q->origin);
+    double delta = plm_wrap_pi(-PLM_PI + (lo + frac) * q->bin_width - q->origin);
     *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
     angles[0] = theta;
     angles[1] = delta;

@@ -495,9 +495,7 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 
 /* ---- queries ------------------------------------------------------------- */
 
-static double wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
-
-/* wrap_pi for |a| < 3 pi, without floor (a library call on plain x86-64). */
+/* plm_wrap_pi for |a| < 3 pi, without floor (a library call on plain x86-64). */
 static double wrap_near(double a)
 {
     a = a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
@@ -608,7 +606,7 @@ int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber
                    fabs(v->phi_o) > HALF_PI;
     int mirror_y = (symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_Y) && v->phi_o < 0.0;
     double phi = mirror_x ? PLM_PI - v->phi_o : v->phi_o;
-    v->phi = wrap_pi(mirror_y ? -phi : phi);
+    v->phi = plm_wrap_pi(mirror_y ? -phi : phi);
     v->flip = mirror_x ^ mirror_y;
     if (v->flip) {
         double lo = -hmax;
@@ -801,7 +799,7 @@ static int table_angles(const plm_fiber_table_query *q, vec3 wi, double *theta, 
     if (!(*ct > 1e-12))
         return 0;
     *theta = fabs(wi.z) < 0.9 ? asin(wi.z) : atan2(wi.z, *ct);
-    double d = wrap_pi(atan2(wi.y, wi.x) - q->phi_o);
+    double d = plm_wrap_pi(atan2(wi.y, wi.x) - q->phi_o);
     *delta = q->flip ? -d : d;
     return 1;
 }
@@ -981,7 +979,7 @@ static int table_sample(const plm_fiber_table_query *q, double u0, double u1, do
         double s = moving_place(a0, a1, plm_clamp(target / mass, 0.0, 1.0));
         double z = plm_fiber_normal_quantile(MOVING_TAIL + u2 * (1.0 - 2.0 * MOVING_TAIL)); /* the cut Gaussian */
         z = plm_clamp(z, -MOVING_CUT, MOVING_CUT);
-        *delta = wrap_pi(m->delta0 + m->slope * s + t->params.beta_n * z);
+        *delta = plm_wrap_pi(m->delta0 + m->slope * s + t->params.beta_n * z);
     }
     *theta = plm_fiber_sample_gm(&q->gm, -q->theta_o, t->params.beta_m, u1);
     *wi = plm_fiber_direction(*theta, q->phi_o + (q->flip ? -*delta : *delta));
