@@ -69,13 +69,15 @@ static double erfinv(double y)
 /* erf(x) for x >= 0, skipping the call where it is 1 to double precision. */
 static double erf_positive(double x) { return x > 6.0 ? 1.0 : erf(x); }
 
-/* G_M about Theta prepared (fiber.h), given inv_s = 1 / (sqrt(2) beta) and
- * unit = 1 / (sqrt(2 pi) beta): erf at the standard scores of -pi/2 and
+/* G_M about Theta prepared (fiber.h), given s = sqrt(2) beta, inv_s = 1 / s
+ * and unit = 1 / (sqrt(2 pi) beta): erf at the standard scores of -pi/2 and
  * pi/2, and from them 1 / (sqrt(2 pi) beta Z) with Z = (erf_hi - erf_lo) / 2
  * the mass inside (no division when Z is 1 to double precision, as for
  * most lobes). */
-static void gm_detector(double Theta, double inv_s, double unit, plm_fiber_gm_detector *g)
+static void gm_detector(double Theta, double s, double inv_s, double unit, plm_fiber_gm_detector *g)
 {
+    g->theta = Theta;
+    g->s = s;
     g->erf_lo = -erf_positive((HALF_PI + Theta) * inv_s);
     g->erf_hi = erf_positive((HALF_PI - Theta) * inv_s);
     double z = 0.5 * (g->erf_hi - g->erf_lo);
@@ -126,7 +128,7 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
         return;
     plm_fiber_lobe lobes[PLM_FIBER_SET_MAX_LOBES];
     int n = plm_fiber_trace(p, wo, set->h, rng, lobes);
-    double inv_s = 1.0 / (SQRT2 * p->beta_m), unit = 1.0 / (SQRT_2PI * p->beta_m);
+    double s = SQRT2 * p->beta_m, inv_s = 1.0 / s, unit = 1.0 / (SQRT_2PI * p->beta_m);
     for (int i = 0; i < n; ++i) {
         double w = rgb_mean(lobes[i].throughput);
         if (!(w > 0.0))
@@ -135,7 +137,7 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
         set->theta[k] = plm_safe_asin(lobes[i].dir.z);
         set->phi[k] = atan2(lobes[i].dir.y, lobes[i].dir.x);
         plm_fiber_gm_detector g;
-        gm_detector(set->theta[k], inv_s, unit, &g);
+        gm_detector(set->theta[k], s, inv_s, unit, &g);
         set->gm_scale[k] = g.scale;
         set->throughput[k] = lobes[i].throughput;
         set->cdf[k + 1] = set->cdf[k] + w;
@@ -145,7 +147,8 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
 
 void plm_fiber_gm_detector_about(double beta_m, double Theta, plm_fiber_gm_detector *g)
 {
-    gm_detector(Theta, 1.0 / (SQRT2 * beta_m), 1.0 / (SQRT_2PI * beta_m), g);
+    double s = SQRT2 * beta_m;
+    gm_detector(Theta, s, 1.0 / s, 1.0 / (SQRT_2PI * beta_m), g);
 }
 
 double plm_fiber_gm(double beta_m, double scale, double dtheta)
@@ -153,10 +156,10 @@ double plm_fiber_gm(double beta_m, double scale, double dtheta)
     return scale * gm_unnormalised(dtheta, beta_m, 0.5 / (beta_m * beta_m));
 }
 
-double plm_fiber_sample_gm(const plm_fiber_gm_detector *g, double Theta, double beta_m, double u)
+double plm_fiber_sample_gm(const plm_fiber_gm_detector *g, double u)
 {
     double y = plm_clamp(g->erf_lo + u * (g->erf_hi - g->erf_lo), -1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON);
-    return plm_clamp(Theta + SQRT2 * beta_m * erfinv(y), -HALF_PI, HALF_PI);
+    return plm_clamp(g->theta + g->s * erfinv(y), -HALF_PI, HALF_PI);
 }
 
 double plm_fiber_normal_quantile(double u) { return SQRT2 * erfinv(to_open_symmetric(u)); }
@@ -242,7 +245,7 @@ int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, d
         ++k;
     plm_fiber_gm_detector g;
     plm_fiber_gm_detector_about(p->beta_m, set->theta[k], &g);
-    double theta = plm_fiber_sample_gm(&g, set->theta[k], p->beta_m, u1);
+    double theta = plm_fiber_sample_gm(&g, u1);
     double phi = remainder(set->phi[k] + p->beta_n * plm_fiber_normal_quantile(u2), PLM_TWO_PI);
     /* remainder(): the sampled offset may wrap several times when beta_n is large. */
     vec3 wi = plm_fiber_direction(theta, phi);

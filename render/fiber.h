@@ -135,11 +135,12 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
  * plm_fiber_sample_gm. Lobes that never meet the medulla all share Theta =
  * -theta_o, which the tabulated BCSDF (render/fiber_table.h) builds on. */
 typedef struct plm_fiber_gm_detector {
+    double theta, s; /* Theta and sqrt(2) beta_m */
     double scale, erf_lo, erf_hi;
 } plm_fiber_gm_detector;
 void plm_fiber_gm_detector_about(double beta_m, double Theta, plm_fiber_gm_detector *g);
 double plm_fiber_gm(double beta_m, double scale, double dtheta);
-double plm_fiber_sample_gm(const plm_fiber_gm_detector *g, double Theta, double beta_m, double u);
+double plm_fiber_sample_gm(const plm_fiber_gm_detector *g, double u);
 /* The standard normal's inverse CDF at u in [0, 1), kept finite: G_N's
  * sampler, and the tabulated BCSDF's for its moving lobes. */
 double plm_fiber_normal_quantile(double u);

@@ -133,8 +133,10 @@ void plm_fiber_medulla_release(plm_fiber_medulla_table *m)
 
 double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_theta, double cos_theta)
 {
+    if (!(m->radius > 0.0))
+        return 1.0;
     double r = m->radius * sqrt(m->eta * m->eta - sin_theta * sin_theta);
-    return m->radius > 0.0 && r < cos_theta ? r / cos_theta : 1.0;
+    return r < cos_theta ? r / cos_theta : 1.0;
 }
 
 /* ---- building ------------------------------------------------------------ */

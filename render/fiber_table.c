@@ -981,7 +981,7 @@ static int table_sample(const plm_fiber_table_query *q, double u0, double u1, do
         z = plm_clamp(z, -MOVING_CUT, MOVING_CUT);
         *delta = plm_wrap_pi(m->delta0 + m->slope * s + t->params.beta_n * z);
     }
-    *theta = plm_fiber_sample_gm(&q->gm, -q->theta_o, t->params.beta_m, u1);
+    *theta = plm_fiber_sample_gm(&q->gm, u1);
     *wi = plm_fiber_direction(*theta, q->phi_o + (q->flip ? -*delta : *delta));
     return 1;
 }

@@ -271,7 +271,7 @@ static void samplers_invert_their_cdfs(void **state)
             long double hi = erfl((0.5L * PI_L - thetas[t]) / s);
             for (int i = 0; i < 2000; ++i) {
                 double u = (i + plm_rng_uniform(&rng)) / 2000.0;
-                double theta = plm_fiber_sample_gm(&g, thetas[t], betas[b], u);
+                double theta = plm_fiber_sample_gm(&g, u);
                 long double cdf = (erfl((theta - thetas[t]) / s) - lo) / (hi - lo);
                 /* u maps to erf's range to a few ulp of 1, and theta, Theta plus the
                  * scaled quantile, rounds to a few of its ulp: times the density */
