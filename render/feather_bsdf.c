@@ -92,20 +92,24 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
     out->tint = tint;
     plm_masking *m = &out->masking;
     *m = *masking;
-    const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
-    out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
-    for (int k = 0; k < 2; ++k) {
-        frame *f = &out->fiber_frame[1 + k];
-        f->x = frame_to_world(barb, bb[k]->e2);
-        f->y = frame_to_world(barb, bb[k]->e3);
-        f->z = frame_to_world(barb, bb[k]->axis);
-    }
     out->fiber[PLM_FEATHER_BARB] = &p->barb;
     out->fiber[PLM_FEATHER_PROXIMAL] = out->fiber[PLM_FEATHER_DISTAL] = &p->barbule;
     double opaque = 1.0 - m->w_transmission;
     double w[3] = {m->w_barb, m->w_proximal, m->w_distal};
     for (int k = 0; k < 3; ++k)
         out->weight[k] = opaque > 1e-12 ? w[k] / opaque : 0.0;
+    /* A fiber's frame serves only a fiber with weight (eval and sampling skip
+     * the others), and most views see one barbule set or none. */
+    const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
+    out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
+    for (int k = 0; k < 2; ++k) {
+        if (!(out->weight[1 + k] > 0.0))
+            continue;
+        frame *f = &out->fiber_frame[1 + k];
+        f->x = frame_to_world(barb, bb[k]->e2);
+        f->y = frame_to_world(barb, bb[k]->e3);
+        f->z = frame_to_world(barb, bb[k]->axis);
+    }
 
     /* The barb is seen through up to six h-ranges of different rates: one
      * range, chosen by rate, is a one-sample estimate of their weighted sum. */

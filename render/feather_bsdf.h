@@ -64,7 +64,7 @@ enum { PLM_FEATHER_BARB = 0, PLM_FEATHER_PROXIMAL = 1, PLM_FEATHER_DISTAL = 2 };
  * frames in world space and a prepared BCSDF per fiber. */
 typedef struct plm_feather_bsdf {
     const plm_feather_params *params;
-    frame fiber_frame[3];      /* x = e2, y = e3, z = fiber axis, in world space */
+    frame fiber_frame[3];      /* x = e2, y = e3, z = fiber axis, in world space; set where weight > 0 */
     const plm_fiber_params *fiber[3];
     double weight[3];          /* w_k / (1 - w_t): the components' share of the light that does not pass */
     double pick[3];            /* sampling probabilities: weight x energy (bcsdf[k].total), normalised */
