@@ -37,13 +37,17 @@ typedef struct query_context {
     int crossings;                    /* may exceed MAX_CROSSINGS: then the rest went into overflow */
     double t[MAX_CROSSINGS], transmission[MAX_CROSSINGS];
     double overflow;                  /* product of the transmissions beyond MAX_CROSSINGS */
-    /* passing: the last candidate kept, filled as the filter saw it. Embree
-     * reports only candidates nearer than the one it holds, so this is the
-     * closest hit unless a surface without filter was found nearer. */
+    /* passing: the last candidate kept (NULL: none yet), filled as the
+     * filter saw it. Embree reports only candidates nearer than the one it
+     * holds, so this is the closest hit unless a surface without filter was
+     * found nearer. A candidate is filled into whichever of the caller's hit
+     * and the spare does not hold the kept one, so that keeping it copies
+     * nothing, and the one candidate of most rays lands in the caller's hit. */
+    plm_hit *hit; /* the caller's (NULL: a shadow query) */
     plm_hit *kept;
-    int have_kept;
     unsigned kept_inst, kept_prim;
     float kept_t;
+    plm_hit spare;
 } query_context;
 
 static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1, double b2,
@@ -95,19 +99,18 @@ static void surface_filter(const struct RTCFilterFunctionNArguments *args)
         }
         if (!ctx->transparent && !ctx->passing)
             continue;
-        plm_hit h;
+        plm_hit *h = ctx->hit && ctx->kept != ctx->hit ? ctx->hit : &ctx->spare;
         /* In instances the ray arrives in object space; its parameter t is the world one.
          * fill_hit sets what the passing needs; intersect finishes the hit kept (its
          * pigment) once the query ends, so surfaces passed never pay for that. */
         fill_hit(ctx->world, inst, prim, hit[3 * n + i], hit[4 * n + i], proto->mask ? &site : NULL,
-                 cone_width(ctx, ray[8 * n + i]), v3_neg(ctx->back), &h);
-        double tr = plm_material_transmission_keep(&h, ctx->back);
+                 cone_width(ctx, ray[8 * n + i]), v3_neg(ctx->back), h);
+        double tr = plm_material_transmission_keep(h, ctx->back);
         if (ctx->passing) {
             if (tr > 0.0 && passing_uniform(&ctx->numbers, inst, prim) < tr) {
                 args->valid[i] = 0;
-            } else if (ctx->kept) { /* the hit and its masking, for the shading that follows */
-                *ctx->kept = h;
-                ctx->have_kept = 1;
+            } else if (ctx->hit) { /* the hit and its masking, for the shading that follows */
+                ctx->kept = h;
                 ctx->kept_inst = inst;
                 ctx->kept_prim = prim;
                 ctx->kept_t = ray[8 * n + i];
@@ -456,8 +459,7 @@ static void init_context(query_context *ctx, const plm_world *w, int transparent
     ctx->spread = 0.0;
     ctx->crossings = 0;
     ctx->overflow = 1.0;
-    ctx->kept = NULL;
-    ctx->have_kept = 0;
+    ctx->hit = ctx->kept = NULL;
 }
 
 static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, double tmax, double *t, plm_hit *hit)
@@ -471,8 +473,10 @@ static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, dou
         return 0;
     *t = rh.ray.tfar;
     unsigned inst = rh.hit.instID[0], prim = w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID];
-    if (!(ctx->have_kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
+    if (!(ctx->kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
         fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, NULL, cone_width(ctx, rh.ray.tfar), d, hit);
+    else if (ctx->kept != hit)
+        *hit = *ctx->kept;
     plm_material_surface_finish(hit);
     return 1;
 }
@@ -493,7 +497,7 @@ int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax,
     ctx.passing = w->transmissive;
     ctx.numbers = *passing;
     ctx.back = v3_neg(d);
-    ctx.kept = hit;
+    ctx.hit = hit;
     return intersect(w, &ctx, o, d, tmax, t, hit);
 }
 
