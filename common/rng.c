@@ -25,17 +25,7 @@ double plm_rng_uniform(plm_rng *rng)
     return (double)bits * (1.0 / 9007199254740992.0);
 }
 
-/* splitmix64 finaliser, applied after folding in each word. */
-static uint64_t mix64(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
 uint64_t plm_hash64(uint64_t a, uint64_t b, uint64_t c)
 {
-    uint64_t h = mix64(a + 0x9e3779b97f4a7c15ULL);
-    h = mix64(h ^ (b + 0x9e3779b97f4a7c15ULL));
-    return mix64(h ^ (c + 0x9e3779b97f4a7c15ULL));
+    return plm_hash64_step(plm_hash64_step(plm_hash64_step(0, a), b), c);
 }

@@ -19,4 +19,17 @@ double plm_rng_uniform(plm_rng *rng);
 /* A 64-bit mix of several integers, for deriving seeds (pixel, sample, seed). */
 uint64_t plm_hash64(uint64_t a, uint64_t b, uint64_t c);
 
+/* One word folded into a hash: the splitmix64 finaliser after adding the
+ * golden-ratio increment. plm_hash64(a, b, c) is
+ * plm_hash64_step(plm_hash64_step(plm_hash64_step(0, a), b), c), so callers
+ * that hash several last words after the same first ones (the sampler)
+ * fold those in once. Inline: the render path's hashing is hot. */
+static inline uint64_t plm_hash64_step(uint64_t h, uint64_t word)
+{
+    uint64_t z = h ^ (word + 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
 #endif

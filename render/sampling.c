@@ -94,7 +94,9 @@ static uint32_t shuffle(uint32_t i, uint32_t n, uint64_t key)
 
 vec2 plm_sampler_2d(const plm_sampler *s, uint32_t dim)
 {
-    uint64_t scramble = plm_hash64(s->key, dim, 1), order = plm_hash64(s->key, dim, 2);
+    /* plm_hash64(key, dim, 1) and (key, dim, 2), their first two words folded in once. */
+    uint64_t h = plm_hash64_step(plm_hash64_step(0, s->key), dim);
+    uint64_t scramble = plm_hash64_step(h, 1), order = plm_hash64_step(h, 2);
     uint32_t i = shuffle(s->index, s->count, order);
     uint32_t x = reverse_bits(i) ^ (uint32_t)scramble, y = sobol_second(i) ^ (uint32_t)(scramble >> 32);
     return v2(x * 0x1p-32, y * 0x1p-32);
