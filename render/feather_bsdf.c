@@ -1,5 +1,7 @@
 #include "render/feather_bsdf.h"
 
+#include "render/sampling.h"
+
 #include <assert.h>
 #include <string.h>
 
@@ -144,44 +146,52 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
  * the axis (as the fiber samplers compute it; accurate near the axis). */
 static double fiber_cos_theta(vec3 local) { return sqrt(local.x * local.x + local.y * local.y); }
 
-/* Sampling picks exactly the components eval sums (pick[k] > 0 iff
- * weight[k] > 0 and the component carries light), so one loop serves both. */
-rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf)
+/* Fiber k's term of eval at the world direction wi, w_k S_k cos(theta_i)
+ * (without the tint), and, if q is not NULL, the density with which
+ * sampling draws wi through fiber k, pick_k pdf_k, from the same lookups. */
+static rgb fiber_term(const plm_feather_bsdf *f, int k, vec3 wi, double *q)
+{
+    vec3 local = frame_to_local(&f->fiber_frame[k], wi);
+    double pk = 0.0;
+    rgb s = q ? plm_fiber_bcsdf_eval_pdf(&f->bcsdf[k], local, &pk) : plm_fiber_bcsdf_eval(&f->bcsdf[k], local);
+    if (q)
+        *q = f->pick[k] * pk;
+    return rgb_scale(s, f->weight[k] * fiber_cos_theta(local));
+}
+
+/* The components sampling can pick are exactly those that carry light
+ * (pick[k] > 0 iff weight[k] > 0 and the fiber has energy for wo): eval,
+ * eval_mis and pdf sum those. */
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi)
 {
     rgb sum = rgb_gray(0.0);
-    double density = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        if (!(f->pick[k] > 0.0))
-            continue;
-        vec3 local = frame_to_local(&f->fiber_frame[k], wi);
-        double pk = 0.0;
-        rgb s = pdf ? plm_fiber_bcsdf_eval_pdf(&f->bcsdf[k], local, &pk) : plm_fiber_bcsdf_eval(&f->bcsdf[k], local);
-        sum = rgb_add(sum, rgb_scale(s, f->weight[k] * fiber_cos_theta(local)));
-        density += f->pick[k] * pk;
-    }
-    if (pdf)
-        *pdf = density;
+    for (int k = 0; k < 3; ++k)
+        if (f->pick[k] > 0.0)
+            sum = rgb_add(sum, fiber_term(f, k, wi, NULL));
     return rgb_mul(sum, f->tint);
 }
 
-/* Fiber k's sampling density at the world direction wi. */
-static double fiber_pdf(const plm_feather_bsdf *f, int k, vec3 wi)
+rgb plm_feather_eval_mis(const plm_feather_bsdf *f, vec3 wi, double light_pdf)
 {
-    return plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
+    rgb sum = rgb_gray(0.0);
+    for (int k = 0; k < 3; ++k) {
+        if (!(f->pick[k] > 0.0))
+            continue;
+        double qk;
+        rgb term = fiber_term(f, k, wi, &qk);
+        sum = rgb_add(sum, rgb_scale(term, plm_power_heuristic(light_pdf, qk)));
+    }
+    return rgb_mul(sum, f->tint);
 }
 
-/* The mixture's density at wi, where fiber `known`'s own density is already
- * known_pdf (known = -1: none is). */
-static double mixture_pdf(const plm_feather_bsdf *f, vec3 wi, int known, double known_pdf)
+double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
 {
     double pdf = 0.0;
     for (int k = 0; k < 3; ++k)
         if (f->pick[k] > 0.0)
-            pdf += f->pick[k] * (k == known ? known_pdf : fiber_pdf(f, k, wi));
+            pdf += f->pick[k] * plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
     return pdf;
 }
-
-double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi) { return mixture_pdf(f, wi, -1, 0.0); }
 
 int plm_feather_pick(const plm_feather_bsdf *f, double u, double *remapped)
 {
@@ -205,21 +215,20 @@ int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u
     vec3 local;
     if (k < 0 || !plm_fiber_bcsdf_sample_direction(&f->bcsdf[k], remapped, u1, u2, &local))
         return 0;
-    /* The density and fiber k's eval at the world direction, as pdf and eval
-     * give them (the trip to world space and back moves the fiber's direction
-     * by rounding, enough to change the density in the last digits). */
+    /* Fiber k's term and density at the world direction, as eval gives them
+     * (the trip to world space and back moves the fiber's direction by
+     * rounding, enough to change the density in the last digits). */
     *wi = frame_to_world(&f->fiber_frame[k], local);
-    vec3 lk = frame_to_local(&f->fiber_frame[k], *wi);
-    double pk = 0.0;
-    rgb s = plm_fiber_bcsdf_eval_pdf(&f->bcsdf[k], lk, &pk);
-    double density = mixture_pdf(f, *wi, k, pk);
-    if (!(density > 0.0) || !(pk > 0.0))
+    double q;
+    rgb term = fiber_term(f, k, *wi, &q);
+    if (!(q > 0.0))
         return 0;
-    *pdf = density;
-    /* eval(wi) / pdf(wi) estimated by fiber k alone: S_k cos / pdf_k times
-     * weight_k / pick_k. Given wi, fiber k was the choice with probability
+    /* eval(wi) / pdf(wi) estimated by fiber k alone: its term over
+     * pick_k pdf_k. Given wi, fiber k was the choice with probability
      * pick_k pdf_k / pdf, so the estimate's mean is eval / pdf; the other
-     * fibers are not evaluated. */
-    *weight = rgb_mul(rgb_scale(s, fiber_cos_theta(lk) * f->weight[k] / (f->pick[k] * pk)), f->tint);
+     * fibers are not evaluated. MIS weighs the draw as fiber k's own
+     * technique, whose density is pick_k pdf_k (plm_feather_eval_mis). */
+    *pdf = q;
+    *weight = rgb_mul(rgb_scale(term, 1.0 / q), f->tint);
     return 1;
 }

@@ -84,18 +84,25 @@ void plm_feather_masking(const plm_feather_params *p, const frame *barb, const p
 void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
                                 rgb tint, plm_rng *rng, plm_feather_bsdf *out);
 
-/* f_s |wi.n| / (1 - w_t(wo)), see the top of this file; and, if pdf is not
- * NULL, plm_feather_pdf(wi) from the same lookups. */
-rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi, double *pdf);
+/* f_s |wi.n| / (1 - w_t(wo)), see the top of this file. */
+rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi);
+/* The mixture's density: sum_k pick_k pdf_k(wi). */
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi);
+/* eval(wi) weighted for a light sample of density light_pdf against BSDF
+ * sampling, fiber by fiber: each fiber k is its own sampling technique of
+ * density pick_k pdf_k (plm_feather_sample weighs its draws by that), so
+ * its term takes the power heuristic of light_pdf against pick_k pdf_k
+ * (docs/rendering.md). */
+rgb plm_feather_eval_mis(const plm_feather_bsdf *f, vec3 wi, double light_pdf);
 /* The component u chooses by pick, and u rescaled to [0, 1) within its
  * share (for its fiber's sampler); -1 if none carries light. */
 int plm_feather_pick(const plm_feather_bsdf *f, double u, double *remapped);
 /* Chooses a component with u0 (plm_feather_pick), then samples its fiber:
- * wi, the mixture's pdf(wi) and as weight an estimate of eval(wi) / pdf(wi)
- * that is unbiased given wi, fiber k's own S_k cos / pdf_k times
- * weight_k / pick_k, so that only fiber k is evaluated (docs/rendering.md).
- * Returns 0 if nothing can be sampled. */
+ * wi, as pdf the density of fiber k's technique, pick_k pdf_k(wi) (what MIS
+ * weighs the draw by; plm_feather_eval_mis), and as weight an estimate of
+ * eval(wi) / plm_feather_pdf(wi) that is unbiased given wi, fiber k's own
+ * S_k cos / pdf_k times weight_k / pick_k, so that only fiber k is
+ * evaluated (docs/rendering.md). Returns 0 if nothing can be sampled. */
 int plm_feather_sample(const plm_feather_bsdf *f, double u0, double u1, double u2, vec3 *wi, double *pdf,
                        rgb *weight);
 

@@ -126,15 +126,13 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     double visible = plm_shadow_transmittance(w, o, ls.wi, ls.dist, rays);
     if (visible <= 0.0)
         return rgb_gray(0.0);
-    /* MIS weighs by the BSDF's density, which comes with eval. */
+    /* MIS weighs against the BSDF's sampling, technique by technique (render/bsdf.h). */
     int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
-    double bsdf_pdf = 0.0;
-    rgb f = plm_bsdf_eval_pdf(bsdf, ls.wi, weighted ? &bsdf_pdf : NULL);
+    double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
+    rgb f = weighted ? plm_bsdf_eval_mis(bsdf, ls.wi, light_pdf) : plm_bsdf_eval(bsdf, ls.wi);
     if (rgb_is_black(f))
         return rgb_gray(0.0);
-    double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
-    double mis = weighted ? plm_power_heuristic(light_pdf, bsdf_pdf) : 1.0;
-    return rgb_scale(rgb_mul(f, ls.radiance), visible * mis / light_pdf);
+    return rgb_scale(rgb_mul(f, ls.radiance), visible / light_pdf);
 }
 
 rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est,

@@ -13,12 +13,13 @@ static double diffuse_pdf(const plm_bsdf *b, vec3 wi)
     return c > 0.0 ? c * PLM_INV_PI : 0.0;
 }
 
-static rgb diffuse_eval(const plm_bsdf *b, vec3 wi, double *pdf)
+/* The cosine-weighted f is the albedo times the density. */
+static rgb diffuse_eval(const plm_bsdf *b, vec3 wi) { return rgb_scale(b->albedo, diffuse_pdf(b, wi)); }
+
+static rgb diffuse_eval_mis(const plm_bsdf *b, vec3 wi, double light_pdf)
 {
-    double p = diffuse_pdf(b, wi); /* the cosine-weighted f is albedo times the density */
-    if (pdf)
-        *pdf = p;
-    return rgb_scale(b->albedo, p);
+    double p = diffuse_pdf(b, wi);
+    return rgb_scale(b->albedo, p * plm_power_heuristic(light_pdf, p));
 }
 
 static int diffuse_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
@@ -33,7 +34,7 @@ static int diffuse_sample(const plm_bsdf *b, double u0, double u1, double u2, pl
     return 1;
 }
 
-static const plm_bsdf_ops diffuse_ops = {diffuse_eval, diffuse_pdf, diffuse_sample};
+static const plm_bsdf_ops diffuse_ops = {diffuse_eval, diffuse_pdf, diffuse_eval_mis, diffuse_sample};
 
 void plm_diffuse_bsdf(const plm_hit *hit, vec3 wo, rgb albedo, plm_bsdf *out)
 {
@@ -47,14 +48,18 @@ void plm_diffuse_bsdf(const plm_hit *hit, vec3 wo, rgb albedo, plm_bsdf *out)
 }
 
 static const plm_feather_bsdf *feather_state(const plm_bsdf *b) { return (const plm_feather_bsdf *)b->state; }
-static rgb feather_eval(const plm_bsdf *b, vec3 wi, double *pdf) { return plm_feather_eval(feather_state(b), wi, pdf); }
+static rgb feather_eval(const plm_bsdf *b, vec3 wi) { return plm_feather_eval(feather_state(b), wi); }
 static double feather_pdf(const plm_bsdf *b, vec3 wi) { return plm_feather_pdf(feather_state(b), wi); }
+static rgb feather_eval_mis(const plm_bsdf *b, vec3 wi, double light_pdf)
+{
+    return plm_feather_eval_mis(feather_state(b), wi, light_pdf);
+}
 static int feather_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
 {
     return plm_feather_sample(feather_state(b), u0, u1, u2, &s->wi, &s->pdf, &s->weight);
 }
 
-static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_sample};
+static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_eval_mis, feather_sample};
 
 /* (1 - w) white + w c */
 static rgb mix_from_white(rgb c, double w) { return rgb_add(rgb_gray(1.0), rgb_scale(rgb_sub(c, rgb_gray(1.0)), w)); }

@@ -102,7 +102,8 @@ static int grid_cell(const frame *f, vec3 w)
     return chi_square_cell(asin(plm_clamp(l.z, -1, 1)), atan2(l.y, l.x), THETA_BINS, PHI_BINS);
 }
 
-/* A sample drawn with u0 first: its pdf is plm_bsdf_pdf, the pick-weighted
+/* A sample drawn with u0 first: its pdf is the chosen fiber's technique's,
+ * pick_k pdf_k (what MIS weighs it by), plm_bsdf_pdf the pick-weighted
  * mixture of the three fibers' pdfs, and its weight the chosen fiber's own
  * S_k cos / pdf_k times weight_k / pick_k (its mean is tested by the
  * feather's weight test). */
@@ -113,12 +114,12 @@ static void check_sample(const plm_bsdf *b, double u0, const plm_bsdf_sample_rec
     for (int k = 0; k < 3; ++k)
         if (fb->pick[k] > 0.0)
             mix += fb->pick[k] * plm_fiber_bcsdf_pdf(&fb->bcsdf[k], frame_to_local(&fb->fiber_frame[k], rec->wi));
-    assert_double_near(rec->pdf, pdf, 1e-12 * pdf);
     assert_double_near(mix, pdf, 1e-12 * pdf);
     int k = plm_feather_pick(fb, u0, &unused);
     vec3 l = frame_to_local(&fb->fiber_frame[k], rec->wi);
     double pk, own = plm_fiber_bcsdf_eval_pdf(&fb->bcsdf[k], l, &pk).r * sqrt(l.x * l.x + l.y * l.y) / pk *
                      fb->weight[k] / fb->pick[k];
+    assert_double_near(rec->pdf, fb->pick[k] * pk, 1e-12 * rec->pdf);
     assert_double_near(rec->weight.r, own, 1e-9 * own + 1e-300);
 }
 
