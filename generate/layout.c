@@ -694,7 +694,7 @@ static double fold_direction(const plm_wing_params *p, double spread, double fol
 typedef struct wing_rows {
     wing_feather *f;
     int count, capacity;
-    int start[PLM_WING_ROWS + 2]; /* the passes: flight feathers, then each covert row; see build_wing */
+    int flight; /* how many flight feathers: they come first, and the rest settle onto them */
 } wing_rows;
 
 static void add_feather(wing_rows *w, int row, vec3 root, double direction, double length)
@@ -708,9 +708,10 @@ static void add_feather(wing_rows *w, int row, vec3 root, double direction, doub
 
 /* Every feather of the wing in dorsal order, bottom first: primaries from the
  * outermost in (each proximal feather lies over the next distal one), then
- * the secondaries from the wrist in and the tertials; then the covert rows,
- * back to front (greater, median, two rows of lesser coverts), and the
- * alula. Lengths in layout units. */
+ * the secondaries from the wrist in and the tertials; then the greater
+ * coverts, the alula (the coverts at the bend of the wing cover its base),
+ * and the other covert rows back to front (median, two rows of lesser
+ * coverts). Lengths in layout units. */
 static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double chord, double primary, int np,
                        int ns, int nt, wing_rows *w)
 {
@@ -718,8 +719,6 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
      * the longest three quarters of the way out; the outermost is shorter. */
     const double primary_ramp[4][2] = {{0.0, 1.05 * chord}, {0.75, primary}, {0.9, 0.98 * primary},
                                        {1.0, 0.86 * primary}};
-    int pass = 0;
-    w->start[pass++] = 0;
     for (int i = np - 1; i >= 0; --i) {
         double u = np > 1 ? (double)i / (np - 1) : 1.0;
         add_feather(w, PLM_WING_PRIMARY, on_bone(sk, 2, 0.12 + 0.88 * u, 0.0),
@@ -739,25 +738,28 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
                     chord * (0.8 - 0.2 * u));
     }
     /* Greater coverts over the bases of every flight feather (the primary
-     * coverts among them), in the same order; median coverts over the
-     * secondaries' coverts; lesser coverts toward the leading edge. */
-    w->start[pass++] = w->count;
-    int flight = w->count;
-    for (int i = 0; i < flight - nt; ++i) {
+     * coverts among them), in the same order. */
+    w->flight = w->count;
+    for (int i = 0; i < w->flight - nt; ++i) {
         const wing_feather *r = &w->f[i];
         int bone = r->row == PLM_WING_PRIMARY ? 2 : 1;
         vec3 root = v3_madd(r->root, planar(sk->angle[bone] + 0.5 * PLM_PI), 0.04 * chord);
         add_feather(w, PLM_WING_GREATER_COVERT, root, r->direction,
                     (r->row == PLM_WING_PRIMARY ? 0.3 : 0.42) * r->length);
     }
-    w->start[pass++] = w->count;
+    /* The alula at the bend of the wing, on the primary coverts' bases along
+     * the hand's leading edge: the longest, on top, along it, the shorter
+     * ones below fanning a little back over the coverts. */
+    for (int a = 2; a >= 0; --a)
+        add_feather(w, PLM_WING_ALULA, on_bone(sk, 2, 0.04 + 0.02 * a, 0.015 * chord),
+                    fold_direction(p, sk->spread[2] - plm_radians(4.0 * a), -80.0), (0.3 - 0.04 * a) * chord);
+    /* Median coverts over the secondaries' coverts, lesser coverts toward the leading edge. */
     for (int j = 0; j < ns; ++j) {
         double u = ns > 1 ? (double)j / (ns - 1) : 0.0;
         add_feather(w, PLM_WING_MEDIAN_COVERT, on_bone(sk, 1, 1.0 - 0.95 * u, 0.12 * chord),
                     fold_direction(p, sk->spread[1] - plm_radians(lerp(80.0, 100.0, u)), -91.0), 0.22 * chord);
     }
     for (int sub = 0; sub < 2; ++sub) {
-        w->start[pass++] = w->count;
         int n = 2 * (ns + nt);
         for (int j = 0; j < n; ++j) {
             /* Along forearm and humerus from the wrist in. */
@@ -769,12 +771,6 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
                         (0.13 - 0.02 * sub) * chord);
         }
     }
-    w->start[pass++] = w->count;
-    for (int a = 2; a >= 0; --a)
-        add_feather(w, PLM_WING_ALULA, on_bone(sk, 2, 0.04 + 0.06 * a, 0.07 * chord),
-                    fold_direction(p, sk->spread[2] + plm_radians(12.0 - 8.0 * a), -80.0),
-                    (0.3 - 0.04 * a) * chord);
-    w->start[pass] = w->count;
 }
 
 /* A height field over the wing plane: the highest z of what lies beneath. */
@@ -825,6 +821,50 @@ static double raster_instance(height_grid *g, const plm_layout_instance *in, con
         }
     }
     return need;
+}
+
+/* The instance pitched by `angle` about its feather frame's x axis at the
+ * root: the tip rises for positive angles. */
+static void pitch(plm_layout_instance *in, double angle)
+{
+    double c = cos(angle), s = sin(angle);
+    for (int r = 0; r < 3; ++r) {
+        double t = in->m[r][1], z = in->m[r][2];
+        in->m[r][1] = c * t + s * z;
+        in->m[r][2] = c * z - s * t;
+    }
+}
+
+/* Settles a feather onto what lies beneath it. Pitched about its root in
+ * whole degrees, each time raised just `clearance` clear of the height field
+ * (never below where it started), it keeps the pitch that brings the middle
+ * of its rachis lowest, as a weight settles: onto two contacts, near its base
+ * and further along, instead of balancing on its highest contact with the
+ * rest in the air. Pitches at which it touches nothing are not resting; a
+ * feather touching nothing stays flat. The range keeps coverts lying along
+ * the wing: steeper, a row's bases would stand up off it like a comb. */
+#define WING_PITCH_DOWN 8
+#define WING_PITCH_UP 10
+
+static void settle(height_grid *g, plm_layout_instance *in, const extent *e, double clearance)
+{
+    const float middle[3] = {0.0f, (float)(0.5 * e->length), 0.0f};
+    plm_layout_instance flat = *in;
+    double lowest = INFINITY;
+    for (int degrees = -WING_PITCH_DOWN; degrees <= WING_PITCH_UP; ++degrees) {
+        plm_layout_instance t = flat;
+        pitch(&t, plm_radians(degrees));
+        double need = raster_instance(g, &t, e, 1);
+        if (need == -INFINITY && degrees != 0)
+            continue;
+        t.m[2][3] += fmax(need, 0.0) + clearance;
+        double z = apply(&t, middle).z;
+        if (z < lowest) {
+            lowest = z;
+            t.lift = plm_radians(degrees);
+            *in = t;
+        }
+    }
 }
 
 /* Roll of every wing feather about its rachis, raising its distal (leading)
@@ -894,35 +934,30 @@ plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *r
     var.scale *= 0.3;
     var.yaw *= 0.3;
     double roll = plm_radians(WING_ROLL_DEGREES);
-    for (int pass = 0; rc == PLM_OK && w.start[pass] < w.count; ++pass) {
-        double rise = 0.0;
-        for (int i = w.start[pass]; i < w.start[pass + 1]; ++i) {
-            const wing_feather *f = &w.f[i];
-            plm_layout_instance *in = &out->instances[i];
-            plm_rng rng;
-            plm_rng_seed(&rng, plm_hash64(p->seed, (uint64_t)i, 1), STREAM_FEATHER);
-            int v = (int)(plm_rng_uniform(&rng) * variants);
-            in->prototype = f->row * variants + v;
-            in->row = f->row;
-            in->order = i;
-            draw_variation(&rng, &var, in);
-            in->lift = 0.0;
-            const extent *e = &ext[in->prototype];
-            vec3 t = planar(f->direction + in->yaw), up = v3(0, 0, 1), x0 = v3_cross(t, up);
-            vec3 x = v3_sub(v3_scale(x0, cos(roll)), v3_scale(up, sin(roll)));
-            vec3 z = v3_add(v3_scale(x0, sin(roll)), v3_scale(up, cos(roll)));
-            /* Folding stacks the whole wing: each feather a little above the ones before. */
-            vec3 root = v3_madd(f->root, up, p->fold * i * 0.002 * chord);
-            set_matrix(in, x, t, z, root, in->scale * f->length / e->length);
-            if (pass > 0)
-                rise = fmax(rise, raster_instance(&g, in, e, 1));
-        }
-        /* A covert row rises as one, just clear of everything beneath it. */
-        rise = pass > 0 ? fmax(rise, 0.0) + 0.004 * chord : 0.0;
-        for (int i = w.start[pass]; i < w.start[pass + 1]; ++i) {
-            out->instances[i].m[2][3] += rise;
-            raster_instance(&g, &out->instances[i], &ext[out->instances[i].prototype], 0);
-        }
+    for (int i = 0; rc == PLM_OK && i < w.count; ++i) {
+        const wing_feather *f = &w.f[i];
+        plm_layout_instance *in = &out->instances[i];
+        plm_rng rng;
+        plm_rng_seed(&rng, plm_hash64(p->seed, (uint64_t)i, 1), STREAM_FEATHER);
+        int v = (int)(plm_rng_uniform(&rng) * variants);
+        in->prototype = f->row * variants + v;
+        in->row = f->row;
+        in->order = i;
+        draw_variation(&rng, &var, in);
+        in->lift = 0.0;
+        const extent *e = &ext[in->prototype];
+        vec3 t = planar(f->direction + in->yaw), up = v3(0, 0, 1), x0 = v3_cross(t, up);
+        vec3 x = v3_sub(v3_scale(x0, cos(roll)), v3_scale(up, sin(roll)));
+        vec3 z = v3_add(v3_scale(x0, sin(roll)), v3_scale(up, cos(roll)));
+        /* Folding stacks the flight feathers, each a little above the ones
+         * before, so that they overlap in order; the coverts and the alula
+         * start from the wing plane and settle onto what lies beneath. */
+        double stack = i < w.flight ? p->fold * i * 0.002 * chord : 0.0;
+        vec3 root = v3_madd(f->root, up, stack);
+        set_matrix(in, x, t, z, root, in->scale * f->length / e->length);
+        if (i >= w.flight)
+            settle(&g, in, e, 0.004 * chord);
+        raster_instance(&g, in, e, 0);
     }
     if (rc == PLM_OK)
         out->instance_count = w.count;

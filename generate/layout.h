@@ -63,7 +63,8 @@ typedef struct plm_layout_instance {
     int order;       /* wing: dorsal stacking order, a larger order lies above a smaller one where they overlap */
     double scale;    /* the size factor applied (1 = the nominal size) */
     double yaw;      /* radians, the yaw applied */
-    double lift;     /* radians, the elevation above the surface's tangent plane */
+    double lift;     /* radians, the elevation above the surface's tangent plane; wing: the pitch it
+                        settled at (negative: tip down), see docs/layouts.md */
     rgb tint;        /* multiplies the feather's scattered colour; each channel in (0, 1] */
 } plm_layout_instance;
 
