@@ -762,8 +762,9 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
     for (int sub = 0; sub < 2; ++sub) {
         int n = 2 * (ns + nt);
         for (int j = 0; j < n; ++j) {
-            /* Along forearm and humerus from the wrist in. */
-            double u = (double)j / (n - 1), along = u * 1.6;
+            /* Along forearm and humerus from the wrist in, the front row
+             * offset by half a spacing to lie over the back row's gaps. */
+            double u = (j + 0.5 * sub) / (n - 1), along = u * 1.6;
             int bone = along < 1.0 ? 1 : 0;
             double t = bone == 1 ? 1.0 - along : 2.0 - along;
             add_feather(w, PLM_WING_LESSER_COVERT, on_bone(sk, bone, plm_clamp(t, 0.05, 1.0), (0.19 + 0.06 * sub) * chord),
