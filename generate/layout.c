@@ -756,7 +756,7 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
     /* Median coverts over the secondaries' coverts, lesser coverts toward the leading edge. */
     for (int j = 0; j < ns; ++j) {
         double u = ns > 1 ? (double)j / (ns - 1) : 0.0;
-        add_feather(w, PLM_WING_MEDIAN_COVERT, on_bone(sk, 1, 1.0 - 0.95 * u, 0.12 * chord),
+        add_feather(w, PLM_WING_MEDIAN_COVERT, on_bone(sk, 1, 1.0 - 0.95 * u, 0.14 * chord),
                     fold_direction(p, sk->spread[1] - plm_radians(lerp(80.0, 100.0, u)), -91.0), 0.22 * chord);
     }
     for (int sub = 0; sub < 2; ++sub) {
