@@ -132,14 +132,7 @@ static void estimators_agree_on_a_pelt(void **state)
     s.film.width = 64, s.film.height = 48;
     plm_world w;
     assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
-    estimate mis = film_mean(&w, PLM_ESTIMATOR_MIS, 8, 300000, 1);
-    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 8, 300000, 2);
-    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 8, 600000, 3);
-    fprintf(stderr, "pelt: MIS %.5f +- %.5f, NEE %.5f +- %.5f, BSDF %.5f +- %.5f\n", mis.mean, mis.se, nee.mean, nee.se,
-            bsdf.mean, bsdf.se);
-    assert_agree(mis, nee, 4.5);
-    assert_agree(mis, bsdf, 4.5);
-    assert_agree(nee, bsdf, 4.5);
+    assert_estimators_agree(&w, 8, 300000, 1, "pelt");
     plm_world_free(&w);
     plm_scene_free(&s);
 }

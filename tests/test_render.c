@@ -191,12 +191,7 @@ static void estimators_agree(void **state)
     plm_world w;
     plm_error err;
     assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
-    estimate mis = film_mean(&w, PLM_ESTIMATOR_MIS, 6, 30000, 11);
-    estimate nee = film_mean(&w, PLM_ESTIMATOR_NEE, 6, 30000, 12);
-    estimate bsdf = film_mean(&w, PLM_ESTIMATOR_BSDF, 6, 60000, 13);
-    assert_agree(mis, nee, 4.5);
-    assert_agree(mis, bsdf, 4.5);
-    assert_agree(nee, bsdf, 4.5);
+    estimate mis = assert_estimators_agree(&w, 6, 30000, 11, "lit room");
     assert_true(mis.se < 0.02 * mis.mean);
     plm_world_free(&w);
     plm_scene_free(&s);

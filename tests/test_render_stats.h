@@ -1,8 +1,10 @@
 /* Statistics shared by the renderer tests (test_render.c, test_feather_bsdf.c):
- * image means from independent samples, with honest standard errors, and a
- * z-test between two estimates. */
+ * image means from independent samples, with honest standard errors, a
+ * z-test between two estimates and the three estimators' agreement. */
 #ifndef PLUMAGE_TESTS_RENDER_STATS_H
 #define PLUMAGE_TESTS_RENDER_STATS_H
+
+#include <stdio.h>
 
 #include "render/render.h"
 
@@ -91,6 +93,23 @@ static void assert_agree(estimate a, estimate b, double z_max)
     double z = z_score(a, b);
     if (z > z_max)
         fail_msg("estimates disagree: %.6f +- %.6f vs %.6f +- %.6f (z = %.2f)", a.mean, a.se, b.mean, b.se, z);
+}
+
+/* The film's mean by MIS, by light sampling alone and by BSDF sampling alone
+ * (n, n and 2n paths; seeds seed, seed + 1, seed + 2) agree within 4.5
+ * standard errors pairwise: the three converge to the same image whatever
+ * weights MIS gives. Returns the MIS estimate. */
+static inline estimate assert_estimators_agree(const plm_world *w, int max_depth, long n, uint64_t seed, const char *what)
+{
+    estimate mis = film_mean(w, PLM_ESTIMATOR_MIS, max_depth, n, seed);
+    estimate nee = film_mean(w, PLM_ESTIMATOR_NEE, max_depth, n, seed + 1);
+    estimate bsdf = film_mean(w, PLM_ESTIMATOR_BSDF, max_depth, 2 * n, seed + 2);
+    fprintf(stderr, "%s: MIS %.5f +- %.5f, NEE %.5f +- %.5f, BSDF %.5f +- %.5f\n", what, mis.mean, mis.se, nee.mean,
+            nee.se, bsdf.mean, bsdf.se);
+    assert_agree(mis, nee, 4.5);
+    assert_agree(mis, bsdf, 4.5);
+    assert_agree(nee, bsdf, 4.5);
+    return mis;
 }
 
 #endif
