@@ -24,9 +24,12 @@ static plm_result envmap_init(const plm_image *im, plm_envmap *env, plm_error *e
     env->marginal_cdf = malloc(sizeof(double) * (size_t)(h + 1));
     env->conditional_cdf = malloc(sizeof(double) * (size_t)h * (size_t)(w + 1));
     env->conditional = malloc(sizeof *env->conditional * (size_t)h);
+    env->marginal_guide = malloc(sizeof(int) * (size_t)h);
+    env->conditional_guide = malloc(sizeof(int) * (size_t)h * (size_t)w);
     double *weights = malloc(sizeof(double) * (size_t)(w > h ? w : h));
     double *row_totals = malloc(sizeof(double) * (size_t)h);
-    if (!env->marginal_cdf || !env->conditional_cdf || !env->conditional || !weights || !row_totals) {
+    if (!env->marginal_cdf || !env->conditional_cdf || !env->conditional || !env->marginal_guide ||
+        !env->conditional_guide || !weights || !row_totals) {
         free(weights);
         free(row_totals);
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d environment map", w, h);
@@ -35,10 +38,11 @@ static plm_result envmap_init(const plm_image *im, plm_envmap *env, plm_error *e
         double sin_theta = sin(PLM_PI * (y + 0.5) / h); /* solid angle of the row's texels */
         for (int x = 0; x < w; ++x)
             weights[x] = texel_luminance(im, x, y) * sin_theta;
-        env->conditional[y] = plm_distribution1d_build(weights, w, env->conditional_cdf + (size_t)y * (w + 1));
+        env->conditional[y] = plm_distribution1d_build(weights, w, env->conditional_cdf + (size_t)y * (w + 1),
+                                                       env->conditional_guide + (size_t)y * w);
         row_totals[y] = env->conditional[y].total;
     }
-    env->marginal = plm_distribution1d_build(row_totals, h, env->marginal_cdf);
+    env->marginal = plm_distribution1d_build(row_totals, h, env->marginal_cdf, env->marginal_guide);
     free(weights);
     free(row_totals);
     return PLM_OK;
@@ -63,6 +67,8 @@ void plm_render_light_free(plm_render_light *l)
     free(l->env.marginal_cdf);
     free(l->env.conditional_cdf);
     free(l->env.conditional);
+    free(l->env.marginal_guide);
+    free(l->env.conditional_guide);
     memset(l, 0, sizeof *l);
 }
 

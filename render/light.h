@@ -18,6 +18,8 @@ typedef struct plm_envmap {
     const plm_image *image;
     double *marginal_cdf;            /* height + 1 */
     double *conditional_cdf;         /* height * (width + 1) */
+    int *marginal_guide;             /* height */
+    int *conditional_guide;          /* height * width */
     plm_distribution1d marginal;     /* over rows */
     plm_distribution1d *conditional; /* one per row, over columns */
 } plm_envmap;

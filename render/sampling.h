@@ -19,15 +19,16 @@ static inline double plm_power_heuristic(double pdf_a, double pdf_b)
 }
 
 /* A piecewise-constant 1D distribution over n bins from non-negative weights.
- * The caller owns cdf (n + 1 doubles). */
+ * The caller owns cdf (n + 1 doubles) and guide (n ints). */
 typedef struct plm_distribution1d {
     const double *cdf; /* cdf[0] = 0, cdf[n] = 1 */
+    const int *guide;  /* guide[i]: the bin u = i / n falls in, where sampling starts its search */
     int n;
     double total;      /* sum of the weights; 0 means nothing can be sampled */
 } plm_distribution1d;
 
-/* Fills cdf from weights; returns the distribution (total 0 if all weights are 0). */
-plm_distribution1d plm_distribution1d_build(const double *weights, int n, double *cdf);
+/* Fills cdf and guide from weights; returns the distribution (total 0 if all weights are 0). */
+plm_distribution1d plm_distribution1d_build(const double *weights, int n, double *cdf, int *guide);
 /* Picks a bin with probability weight/total; *remapped is u rescaled to [0,1)
  * within the bin so it can be reused. */
 int plm_distribution1d_sample(const plm_distribution1d *d, double u, double *remapped);

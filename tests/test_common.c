@@ -49,11 +49,43 @@ static void rng_is_reproducible_and_uniform(void **state)
     assert_true(fabs(var - 1.0 / 12.0) < 1e-3);
 }
 
+/* The bin sampling picks is the last whose cdf entry is at most u, however
+ * far the guide's start is from it: random weights with runs of zeros and a
+ * spike (a sky's sun), u at random, on cdf entries and on the guide's i / n. */
+static void distribution_finds_the_last_entry_at_most_u(void **state)
+{
+    (void)state;
+    enum { N = 37 };
+    plm_rng rng;
+    plm_rng_seed(&rng, 3, 3);
+    for (int t = 0; t < 200; ++t) {
+        double w[N], cdf[N + 1];
+        int guide[N];
+        for (int i = 0; i < N; ++i)
+            w[i] = plm_rng_uniform(&rng) < 0.4 ? 0.0 : plm_rng_uniform(&rng);
+        w[(int)(plm_rng_uniform(&rng) * N)] += 1000.0 * (t % 2);
+        plm_distribution1d d = plm_distribution1d_build(w, N, cdf, guide);
+        for (int k = 0; k < 300; ++k) {
+            double u = k < 100 ? plm_rng_uniform(&rng) : k < 100 + N ? cdf[k - 100] : (double)(k % N) / N;
+            if (!(u < 1.0))
+                continue; /* a cdf entry of 1 before trailing zero weights: u is in [0, 1) */
+            int last = 0;
+            for (int i = 1; i < N; ++i)
+                if (cdf[i] <= u)
+                    last = i;
+            double r;
+            assert_int_equal(plm_distribution1d_sample(&d, u, &r), last);
+            assert_true(d.total == 0.0 || w[last] > 0.0);
+        }
+    }
+}
+
 static void distribution_matches_weights(void **state)
 {
     (void)state;
     double w[5] = {1.0, 0.0, 3.0, 0.0, 4.0}, cdf[6];
-    plm_distribution1d d = plm_distribution1d_build(w, 5, cdf);
+    int guide[5];
+    plm_distribution1d d = plm_distribution1d_build(w, 5, cdf, guide);
     assert_double_near(d.total, 8.0, 1e-12);
     int counts[5] = {0};
     plm_rng rng;
@@ -393,6 +425,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(rng_is_reproducible_and_uniform),
+        cmocka_unit_test(distribution_finds_the_last_entry_at_most_u),
         cmocka_unit_test(distribution_matches_weights),
         cmocka_unit_test(cosine_hemisphere_has_expected_moments),
         cmocka_unit_test(json_errors_name_file_field_and_range),
