@@ -6,15 +6,24 @@
  * boundary. The emission E_c(t) is what leaves the fiber, per unit of light
  * reaching t, when the path may still store c lobes: bin masses over
  * (|theta_i|, phi_i) of sum_k A_k G_M G_N, the mean over the diffuse
- * directions (and later bounces) of the lobes that follow. A view node's
- * table holds, for rows j = 0..h_cells, bands a (|theta_i| bins) and columns
- * c = 0..phi_bins,
- *   S(j, a, c) = integral over h < h_j of the mass in band a with
- *                phi below column c,
+ * directions (and later bounces) of the lobes that follow. L(t | wo, h) is
+ * the light that the path entering at h reaches t with.
+ *
+ * A rotationally symmetric fiber's table holds, per |theta_o| node, for
+ * rows j = 0..h_cells, bands a (|theta_i| bins) and columns c = 0..phi_bins,
+ *   S(j, a, c) = integral over s < s_j of the mass in band a with
+ *                phi_i - phi_o below column c,
  * i.e. the emission of the point each h reaches, weighted by the light that
- * reaches it. For a rotationally symmetric fiber the rows run over
- * s = h / h_reach instead (plm_fiber_medulla_reach), so that where paths
- * stop meeting the medulla is a cell bound at every view. */
+ * reaches it, with the rows over s = h / h_reach
+ * (plm_fiber_medulla_reach), so that where paths stop meeting the medulla
+ * is a cell bound at every view.
+ *
+ * Every other fiber's table is factored: E(t) at `points` medulla points
+ * once (the paths of the last lobe class: all p->lobes - 1 lobes after the
+ * medulla), and per view node (|theta_o|, phi_o) the light L at those
+ * points (linear in t between them), cumulative over h cells, and the h
+ * samples it was summed from. A query blends L over the nodes and the
+ * interval into one weight per point; eval is sum_t L(t) E(t)(wi). */
 #include "render/fiber_medulla_table.h"
 
 #include <stdlib.h>
@@ -24,10 +33,11 @@
 
 #define HALF_PI (0.5 * PLM_PI)
 
-/* Medulla points the emission is tabulated at (linear in t between them),
- * its azimuth bins per table column, and the lobe budgets it keeps apart:
- * 1, 2, ... up to MAX_CLASSES - 1, the last class all p->lobes - 1 lobes
- * (exact for up to 5 lobes; see docs/fiber.md). */
+/* A rotationally symmetric table's medulla points the emission is
+ * tabulated at (linear in t between them), its azimuth bins per table
+ * column, and the lobe budgets it keeps apart: 1, 2, ... up to MAX_CLASSES -
+ * 1, the last class all p->lobes - 1 lobes (exact for up to 5 lobes; see
+ * docs/fiber.md). A factored table keeps the last class alone. */
 enum { POINTS = 96, PHI_REFINE = 2, MAX_CLASSES = 4 };
 
 /* ---- layout -------------------------------------------------------------- */
@@ -50,6 +60,48 @@ static size_t row_floats(const plm_fiber_medulla_table *m) { return total_offset
 static size_t node_floats(const plm_fiber_medulla_table *m) { return (size_t)(m->res.h_cells + 1) * row_floats(m); }
 static int node_count(const plm_fiber_medulla_table *m) { return m->res.theta_nodes * m->res.phi_nodes; }
 
+/* The factored layout (every fiber but a rotationally symmetric one), in
+ * floats: per |theta_i| band and phi_i bin, the points' emission, one
+ * channel (R, G, B, then their mean) after another, each over the points
+ * (so that eval's sums over the points read consecutive floats); the
+ * points' emitted energy, R, G, B and the mean of RGB, each over the
+ * points; per point its sampling table: the cumulative band masses (bands
+ * + 1) and per band the cumulative row over the bins (bins + 1), mean of
+ * RGB; per view node, rows 0..h_cells of the light reaching each
+ * point, cumulative over the h cells (RGB, each over the points), then the
+ * traced h samples, `records` per cell: the point reached and the light
+ * (RGB; zero for a path that misses the medulla). */
+static size_t emission_block(const plm_fiber_medulla_table *m)
+{
+    return 4 * (size_t)m->res.points * (size_t)m->res.theta_bins * (size_t)m->res.phi_bins;
+}
+static size_t sampling_floats(const plm_fiber_medulla_table *m)
+{
+    return (size_t)m->res.theta_bins + 1 + (size_t)m->res.theta_bins * (size_t)(m->res.phi_bins + 1);
+}
+static size_t light_row(const plm_fiber_medulla_table *m) { return 3 * (size_t)m->res.points; }
+static size_t records_per_node(const plm_fiber_medulla_table *m)
+{
+    return (size_t)m->res.h_cells * (size_t)m->res.records;
+}
+static size_t factored_node(const plm_fiber_medulla_table *m)
+{
+    return (size_t)(m->res.h_cells + 1) * light_row(m) + 4 * records_per_node(m);
+}
+static size_t factored_nodes_start(const plm_fiber_medulla_table *m)
+{
+    return emission_block(m) + (size_t)m->res.points * (4 + sampling_floats(m));
+}
+static const float *point_energy(const plm_fiber_medulla_table *m) { return m->data + emission_block(m); }
+static float *point_sampling(const plm_fiber_medulla_table *m, int k)
+{
+    return m->data + emission_block(m) + 4 * (size_t)m->res.points + sampling_floats(m) * (size_t)k;
+}
+static float *node_light(const plm_fiber_medulla_table *m, int node)
+{
+    return m->data + factored_nodes_start(m) + factored_node(m) * (size_t)node;
+}
+
 /* The default resolution per symmetry class, the columns of docs/fiber.md's
  * table (phi_o nodes 0: the override's, else what PLM_FIBER_MEDULLA_BUDGET
  * leaves; a rotationally symmetric fiber's one node is fixed). The part is
@@ -65,15 +117,19 @@ static const plm_fiber_medulla_resolution default_resolution[] = {
      * |theta_o| nodes. */
     [DEFAULT_ROTATIONAL] = {.theta_nodes = 10, .phi_nodes = 1, .h_cells = 32, .theta_bins = 24, .phi_bins = 48,
                             .directions = 4096},
-    /* Both mirrors: the phi_o nodes over a quarter turn are dense already,
-     * and 12 bands with 7 |theta_o| nodes did better than 6 bands with more
-     * phi_o nodes. */
-    [DEFAULT_BOTH_MIRRORS] = {.theta_nodes = 7, .h_cells = 32, .theta_bins = 12, .phi_bins = 24,
-                              .directions = 4096},
-    /* One mirror or none: the phi_o nodes cover half the circle or all of
-     * it, and blending them is the error by far, so 5 |theta_o| nodes and 6
-     * bands (15 deg) leave room for three times the phi_o nodes. */
-    [DEFAULT_WIDE] = {.theta_nodes = 5, .h_cells = 32, .theta_bins = 6, .phi_bins = 24, .directions = 4096},
+    /* Factored: the emission is stored once, so its bins can be fine (24
+     * bands halve random 3's error against 12); the light per view node is
+     * small, so the phi_o nodes can be dense; the interval's partial cells
+     * read the traced h samples, so 16 cells do (16 samples each, at least,
+     * measure as well as 32, which leave fewer phi_o nodes and cost a
+     * partial interval's prepare twice the samples). 64 points cost 0.1 points of
+     * error against 96 and a third less memory and eval. Where the phi_o
+     * nodes cover half the circle or all of it, 7 |theta_o| nodes leave
+     * room for more of them. */
+    [DEFAULT_BOTH_MIRRORS] = {.theta_nodes = 10, .h_cells = 16, .theta_bins = 24, .phi_bins = 96,
+                              .directions = 4096, .points = 64, .records = 16},
+    [DEFAULT_WIDE] = {.theta_nodes = 7, .h_cells = 16, .theta_bins = 24, .phi_bins = 96, .directions = 4096,
+                      .points = 64, .records = 16},
 };
 
 static const plm_fiber_medulla_resolution *defaults_for(int symmetry)
@@ -81,6 +137,29 @@ static const plm_fiber_medulla_resolution *defaults_for(int symmetry)
     return &default_resolution[symmetry == PLM_FIBER_TABLE_ROTATIONAL  ? DEFAULT_ROTATIONAL
                                : symmetry == PLM_FIBER_TABLE_MIRROR_XY ? DEFAULT_BOTH_MIRRORS
                                                                        : DEFAULT_WIDE];
+}
+
+/* x rounded up to a multiple of k. */
+static int round_up(int x, int k) { return (x + k - 1) / k * k; }
+
+/* The factored layout's points (a multiple of 8, as eval's sums over them
+ * take 8 at a time; even, as the mirrors map points onto points), records
+ * and bins (even, as the mirrors map bins onto bins); the floats before the
+ * view nodes and those of one node. */
+static void factored_resolution(const plm_fiber_params *p, const plm_fiber_medulla_resolution *r,
+                                const plm_fiber_medulla_resolution *d, plm_fiber_medulla_table *m, size_t *fixed,
+                                size_t *per_node)
+{
+    int points = r && r->points > 0 ? round_up(r->points, 8) : d->points;
+    m->res.points = points < PLM_FIBER_MEDULLA_POINTS ? points : PLM_FIBER_MEDULLA_POINTS;
+    /* A narrow detector needs the samples closer (as the other part's, half a beta_n of lobe motion
+     * apart): random 1 of slow_fiber_table, beta_n 4.3 deg, 0.5-1.9% with 16 samples, 0-0.2% with 24. */
+    int sub = plm_fiber_h_sub_samples(p->beta_n, m->res.h_cells);
+    m->res.records = r && r->records > 0 ? r->records : sub > d->records ? sub : d->records;
+    m->res.phi_bins = round_up(m->res.phi_bins, 2);
+    m->factored = 1;
+    *fixed = factored_nodes_start(m);
+    *per_node = factored_node(m);
 }
 
 void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
@@ -95,9 +174,12 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->res.theta_bins = r && r->theta_bins > 1 ? r->theta_bins : d->theta_bins;
     m->res.phi_bins = r && r->phi_bins > 1 ? r->phi_bins : d->phi_bins; /* eval reads a bin and its neighbour */
     m->res.directions = r && r->directions > 0 ? r->directions : d->directions;
-    size_t node_bytes = sizeof(float) * node_floats(m);
-    int fit = (int)(PLM_FIBER_MEDULLA_BUDGET / (node_bytes * (size_t)m->res.theta_nodes));
-    int phi_nodes = r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 40 ? 40 : fit;
+    size_t fixed = 0, per_node = node_floats(m);
+    if (symmetry != PLM_FIBER_TABLE_ROTATIONAL)
+        factored_resolution(p, r, d, m, &fixed, &per_node);
+    size_t budget = PLM_FIBER_MEDULLA_BUDGET / sizeof(float), left = budget > fixed ? budget - fixed : 0;
+    int fit = (int)(left / (per_node * (size_t)m->res.theta_nodes));
+    int phi_nodes = r && r->phi_nodes > 1 ? r->phi_nodes : fit < 3 ? 3 : fit > 120 ? 120 : fit;
     m->res.phi_nodes = d->phi_nodes ? d->phi_nodes : phi_nodes;
     m->symmetry = symmetry;
     m->theta_max = plm_radians(89.0);
@@ -106,7 +188,7 @@ void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm
     m->per_theta = HALF_PI / m->res.theta_bins < p->beta_m;
     m->u_last = plm_fiber_theta_u(p->eta, m->theta_max);
     plm_fiber_phi_nodes(symmetry, m->res.phi_nodes, &m->phi_lo, &m->phi_step);
-    m->floats = node_floats(m) * (size_t)node_count(m);
+    m->floats = fixed + per_node * (size_t)node_count(m);
 }
 
 plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
@@ -144,7 +226,7 @@ double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_thet
 /* The emission: per medulla point and lobe class, bin masses over |theta_i|
  * bands and phi_i bins (PHI_REFINE per table column), RGB. */
 typedef struct emission {
-    int classes, bands, bins;
+    int points, classes, bands, bins;
     float *mass;
 } emission;
 
@@ -280,7 +362,7 @@ static void build_emission(build_ctx *b, int point, double *scratch, plm_fiber_l
     int K = b->m->res.directions, max_lobes = p->lobes - 1;
     double *hist = scratch, *band_row = hist + fine_floats() * (size_t)e->classes;
     memset(hist, 0, sizeof(double) * fine_floats() * (size_t)e->classes);
-    double t = PLM_TWO_PI * point / POINTS;
+    double t = PLM_TWO_PI * point / e->points;
     uint64_t hash = plm_hash64(0x3ed, (uint64_t)point, 1);
     double s1 = (hash >> 11) * 0x1.0p-53, s2 = (plm_hash64(hash, 2, 3) >> 11) * 0x1.0p-53;
     plm_rng rng; /* later bounces */
@@ -305,16 +387,18 @@ static void build_emission(build_ctx *b, int point, double *scratch, plm_fiber_l
 }
 
 /* Pools the emission over the fiber's symmetries, which map medulla points
- * onto medulla points (POINTS is a multiple of 4) and emission bins onto
- * emission bins (their count a multiple of POINTS): a rotation by t turns
+ * onto medulla points (their count is a multiple of 4) and emission bins onto
+ * emission bins (their count a multiple of the points'
+ * for a rotation, even for the mirrors): a rotation by t turns
  * phi by t; x -> -x takes t to pi - t and phi to pi - phi; y -> -y takes t
  * and phi to -t and -phi. Each point's emission becomes the mean of its
  * images, which has the same expectation and less noise. */
 static int symmetrize(build_ctx *b, int symmetry)
 {
     emission *e = &b->e;
-    size_t per = emission_floats(e), all = per * (size_t)e->classes * POINTS;
-    int bins = e->bins, shift = bins / POINTS, group = symmetry == PLM_FIBER_TABLE_ROTATIONAL ? POINTS
+    int P = e->points;
+    size_t per = emission_floats(e), all = per * (size_t)e->classes * (size_t)P;
+    int bins = e->bins, shift = bins / P, group = symmetry == PLM_FIBER_TABLE_ROTATIONAL ? P
                                                         : symmetry == PLM_FIBER_TABLE_MIRROR_XY ? 4
                                                         : symmetry == PLM_FIBER_TABLE_NONE      ? 1
                                                                                                 : 2;
@@ -324,7 +408,7 @@ static int symmetrize(build_ctx *b, int symmetry)
     if (!copy)
         return 0;
     memcpy(copy, e->mass, sizeof(float) * all);
-    for (int k = 0; k < POINTS; ++k)
+    for (int k = 0; k < P; ++k)
         for (int cls = 0; cls < e->classes; ++cls) {
             float *dst = e->mass + per * ((size_t)k * e->classes + cls);
             memset(dst, 0, sizeof(float) * per);
@@ -339,10 +423,10 @@ static int symmetrize(build_ctx *b, int symmetry)
                     mx = g && symmetry == PLM_FIBER_TABLE_MIRROR_X, my = g && symmetry == PLM_FIBER_TABLE_MIRROR_Y;
                 int src = k - rot; /* rotation: E(k) = E(k - g) turned by g points */
                 if (mx)
-                    src = POINTS / 2 - src;
+                    src = P / 2 - src;
                 if (my)
                     src = -src;
-                src = ((src % POINTS) + POINTS) % POINTS;
+                src = ((src % P) + P) % P;
                 const float *from = copy + per * ((size_t)src * e->classes + cls);
                 for (int a = 0; a < e->bands; ++a)
                     for (int c = 0; c < bins; ++c) {
@@ -377,6 +461,17 @@ static void map_columns(const build_ctx *b, double origin, int *e0, int *e1, dou
     }
 }
 
+/* Where medulla point t falls among P points (linear in t between them):
+ * between k0 (returned) and *k1, the next (wrapping), at fraction *f. */
+static int point_split(double t, int P, int *k1, double *f)
+{
+    double x = t / PLM_TWO_PI * P, fl = floor(x);
+    int k0 = (int)(fl - P * floor(fl / P));
+    *f = x - fl;
+    *k1 = (k0 + 1) % P;
+    return k0;
+}
+
 /* The light reaching each medulla point from h cell j seen from wo, per lobe
  * class (RGB; split linearly between the two nearest tabulated points), by
  * the midpoint rule in asin(s) with `sub` samples, s = h / h_reach (per
@@ -392,8 +487,8 @@ static void cell_reach(const build_ctx *b, vec3 wo, double h_reach, int j, int s
         plm_fiber_medulla_hit hit;
         if (!plm_fiber_trace_to_medulla(p, wo, h_reach * sin(g), lobes, &hit))
             continue;
-        double x = hit.t / PLM_TWO_PI * POINTS, fl = floor(x), f = x - fl;
-        int k0 = (int)(fl - POINTS * floor(fl / POINTS)), k1 = (k0 + 1) % POINTS;
+        double f;
+        int k1, k0 = point_split(hit.t, POINTS, &k1, &f);
         int cls = class_of(p->lobes - hit.lobes, b->e.classes);
         rgb T = rgb_scale(hit.throughput, cos(g) * dg);
         double *r0 = reach + 3 * ((size_t)cls * POINTS + k0), *r1 = reach + 3 * ((size_t)cls * POINTS + k1);
@@ -458,9 +553,9 @@ static void store_row(const plm_fiber_medulla_table *m, const double *cell, doub
     }
 }
 
-/* One view node: per h cell, the light reaching each medulla point, then
- * those points' emission resampled at the node's columns, summed into
- * cumulative rows (row 0 is all zeros). */
+/* One view node of a rotationally symmetric table: per h cell, the light
+ * reaching each medulla point, then those points' emission resampled at
+ * the node's columns, summed into cumulative rows (row 0 is all zeros). */
 static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *lobes)
 {
     const plm_fiber_medulla_table *m = b->m;
@@ -471,7 +566,7 @@ static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *
     double *reach = scratch, *cell = reach + 3 * (size_t)POINTS * (size_t)b->e.classes;
     double *row = cell + 3 * (size_t)bands * cols, *ef = row + 3 * (size_t)bands * (cols + 1);
     int *e0 = (int *)(ef + cols), *e1 = e0 + cols;
-    map_columns(b, m->symmetry == PLM_FIBER_TABLE_ROTATIONAL ? phi_o : 0.0, e0, e1, ef);
+    map_columns(b, phi_o, e0, e1, ef); /* columns over phi_i - phi_o */
     float *out = m->data + node_floats(m) * (size_t)node;
     memset(row, 0, sizeof(double) * 3 * (size_t)bands * (cols + 1));
     for (size_t x = 0; x < row_floats(m); ++x)
@@ -485,6 +580,102 @@ static void build_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *
     }
 }
 
+/* ---- building a factored table ------------------------------------------ */
+
+/* Adds light T (RGB) times c reaching the medulla at point position x (in
+ * [0, P], t P / (2 pi), from point_split) to w (w[channel stride +
+ * point]), split linearly between the two nearest of the P points. */
+static void add_light(float *w, size_t stride, int P, float x, float c, const float *T)
+{
+    int k0 = (int)x;
+    float f = x - (float)k0, a = (1.0f - f) * c, b = f * c;
+    k0 = k0 < P ? k0 : 0; /* x rounded up onto P, which is point 0 */
+    int k1 = k0 + 1 < P ? k0 + 1 : 0;
+    for (int ch = 0; ch < 3; ++ch) {
+        w[ch * stride + (size_t)k0] += a * T[ch];
+        w[ch * stride + (size_t)k1] += b * T[ch];
+    }
+}
+
+/* The emission into the table's layout (its one class: all the lobes a path
+ * may store after the medulla) and each point's sampling table, whose
+ * cumulative sums run over the stored means, so that what sampling reads
+ * is what pdf reads up to rounding. */
+static int store_emission(const build_ctx *b)
+{
+    const plm_fiber_medulla_table *m = b->m;
+    int P = m->res.points, bands = m->res.theta_bins, bins = m->res.phi_bins;
+    for (int x = 0; x < bands * bins; ++x)
+        for (int k = 0; k < P; ++k) {
+            const float *src = b->e.mass + emission_floats(&b->e) * (size_t)k + 3 * (size_t)x;
+            float *dst = m->data + 4 * (size_t)P * (size_t)x;
+            for (int ch = 0; ch < 3; ++ch)
+                dst[ch * P + k] = src[ch];
+            dst[3 * P + k] = (float)(((double)src[0] + src[1] + src[2]) / 3.0);
+        }
+    float *energy = m->data + emission_block(m);
+    for (int k = 0; k < P; ++k) {
+        float *band = point_sampling(m, k), *row = band + bands + 1;
+        double total[3] = {0.0, 0.0, 0.0}, mean = 0.0;
+        band[0] = 0.0f;
+        for (int a = 0; a < bands; ++a, row += bins + 1) {
+            double acc = 0.0;
+            row[0] = 0.0f;
+            for (int c = 0; c < bins; ++c) {
+                const float *v = m->data + 4 * (size_t)P * ((size_t)a * bins + c);
+                for (int ch = 0; ch < 3; ++ch)
+                    total[ch] += v[ch * P + k];
+                acc += v[3 * P + k];
+                row[c + 1] = (float)acc;
+            }
+            mean += row[bins];
+            band[a + 1] = (float)mean;
+        }
+        for (int ch = 0; ch < 3; ++ch)
+            energy[ch * P + k] = (float)total[ch];
+        energy[3 * P + k] = band[bands];
+    }
+    return 1;
+}
+
+/* One view node of a factored table: `records` h samples per cell (the
+ * midpoint rule in asin(h)), each path traced to the medulla and kept as the
+ * position of the point it reaches among the points (add_light) and the
+ * light it brings times its width in h, and the
+ * cumulative rows of that light per point (row 0 is all zeros). */
+static void build_factored_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *lobes)
+{
+    const plm_fiber_medulla_table *m = b->m;
+    int P = m->res.points, S = m->res.records, cells = m->res.h_cells;
+    int it = node / m->res.phi_nodes, ip = node % m->res.phi_nodes;
+    vec3 wo = plm_fiber_direction(plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, it),
+                                  m->phi_lo + ip * m->phi_step);
+    float *rows = node_light(m, node), *rec = rows + (size_t)(cells + 1) * light_row(m);
+    float *cell = (float *)(scratch + light_row(m)); /* one cell's light, summed into the rows in double */
+    double dg = PLM_PI / ((double)cells * S);
+    memset(scratch, 0, sizeof(double) * light_row(m));
+    memset(rows, 0, sizeof(float) * light_row(m));
+    for (int j = 0; j < cells; ++j) {
+        memset(cell, 0, sizeof(float) * light_row(m));
+        for (int s = 0; s < S; ++s) {
+            float *r = rec + 4 * ((size_t)j * S + s);
+            double g = -HALF_PI + ((double)j * S + s + 0.5) * dg;
+            plm_fiber_medulla_hit hit;
+            memset(r, 0, 4 * sizeof(float));
+            if (!plm_fiber_trace_to_medulla(b->p, wo, sin(g), lobes, &hit))
+                continue;
+            rgb T = rgb_scale(hit.throughput, cos(g) * dg);
+            double f;
+            int k1, k0 = point_split(hit.t, P, &k1, &f);
+            r[0] = (float)(k0 + f), r[1] = (float)T.r, r[2] = (float)T.g, r[3] = (float)T.b;
+            add_light(cell, (size_t)P, P, r[0], 1.0f, r + 1);
+        }
+        float *row = rows + (size_t)(j + 1) * light_row(m);
+        for (size_t i = 0; i < light_row(m); ++i)
+            row[i] = (float)(scratch[i] += cell[i]);
+    }
+}
+
 static void emission_work(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes)
 {
     build_emission(ctx, item, scratch, lobes);
@@ -492,7 +683,34 @@ static void emission_work(void *ctx, int item, double *scratch, plm_fiber_lobe *
 
 static void node_work(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes)
 {
-    build_node(ctx, item, scratch, lobes);
+    build_ctx *b = ctx;
+    if (b->m->factored)
+        build_factored_node(b, item, scratch, lobes);
+    else
+        build_node(b, item, scratch, lobes);
+}
+
+/* The emission's layout: a rotationally symmetric table's (classes of lobe
+ * budgets, PHI_REFINE bins per column, a multiple of the points), or a
+ * factored table's (one class, its own points and bins). */
+static emission emission_layout(const plm_fiber_params *p, const plm_fiber_medulla_table *m)
+{
+    if (m->factored)
+        return (emission){m->res.points, 1, m->res.theta_bins, m->res.phi_bins, NULL};
+    return (emission){POINTS, p->lobes - 1 < MAX_CLASSES ? p->lobes - 1 : MAX_CLASSES, m->res.theta_bins,
+                      (PHI_REFINE * m->res.phi_bins + POINTS - 1) / POINTS * POINTS, NULL};
+}
+
+/* Scratch per thread for a view node. */
+static size_t node_scratch(const build_ctx *b)
+{
+    const plm_fiber_medulla_table *m = b->m;
+    if (m->factored)
+        return (sizeof(double) + sizeof(float)) * light_row(m);
+    int cols = m->res.phi_bins, bands = m->res.theta_bins;
+    return sizeof(double) * (3 * (size_t)POINTS * b->e.classes + 3 * (size_t)bands * cols +
+                             3 * (size_t)bands * (cols + 1) + (size_t)cols) +
+           sizeof(int) * 2 * (size_t)cols;
 }
 
 plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
@@ -500,22 +718,16 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
 {
     if (m->res.theta_nodes == 0)
         return PLM_OK;
-    build_ctx b = {p, m, {p->lobes - 1 < MAX_CLASSES ? p->lobes - 1 : MAX_CLASSES, m->res.theta_bins,
-                          /* emission bins: at least PHI_REFINE per column, a multiple of POINTS */
-                          (PHI_REFINE * m->res.phi_bins + POINTS - 1) / POINTS * POINTS, NULL},
-                   NULL, NULL, NULL, NULL};
+    build_ctx b = {p, m, emission_layout(p, m), NULL, NULL, NULL, NULL};
     size_t per = emission_floats(&b.e);
-    b.e.mass = malloc(sizeof(float) * per * (size_t)b.e.classes * POINTS);
+    b.e.mass = malloc(sizeof(float) * per * (size_t)b.e.classes * (size_t)b.e.points);
     size_t emission_scratch = sizeof(double) * (fine_floats() * (size_t)b.e.classes + 3 * (size_t)FINE_PHI);
-    int cols = m->res.phi_bins, bands = m->res.theta_bins;
-    size_t node_scratch = sizeof(double) * (3 * (size_t)POINTS * b.e.classes + 3 * (size_t)bands * cols +
-                                            3 * (size_t)bands * (cols + 1) + (size_t)cols) +
-                          sizeof(int) * 2 * (size_t)cols;
     int ok = b.e.mass && make_kernels(&b) &&
-             plm_fiber_parallel(emission_work, &b, POINTS, emission_scratch, p->lobes, o, "medulla emission",
+             plm_fiber_parallel(emission_work, &b, b.e.points, emission_scratch, p->lobes, o, "medulla emission",
                                 started) &&
-             symmetrize(&b, m->symmetry) &&
-             plm_fiber_parallel(node_work, &b, node_count(m), node_scratch, p->lobes, o, "medulla views", started);
+             symmetrize(&b, m->symmetry) && (!m->factored || store_emission(&b)) &&
+             plm_fiber_parallel(node_work, &b, node_count(m), node_scratch(&b), p->lobes, o, "medulla views",
+                                started);
     free(b.e.mass);
     free(b.theta_kernel);
     free(b.phi_kernel);
@@ -525,8 +737,8 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
 
 /* ---- queries ------------------------------------------------------------- */
 
-/* Sampling picks a view node by its energy, then a band and a bin in that
- * node's terms alone (a quarter of them for four nodes); pdf and eval read
+/* A rotationally symmetric table's sampling picks a view node by its
+ * energy, then a band and a bin in that node's terms alone (a quarter of them for four nodes); pdf and eval read
  * all terms at once, and their density is the sampler's, the sum over the
  * nodes, up to rounding. Sums over terms are taken per channel in the
  * terms' order and what pdf and sampling read of a column is the sum of
@@ -577,6 +789,138 @@ static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view
         rows->coef[r] *= scale;
 }
 
+/* The sum over k < n of a[k] b[k] (n a multiple of 8), in eight partial
+ * sums that the compiler keeps in vector registers. */
+static double dot(const float *a, const float *b, int n)
+{
+    float s[8] = {0.0f};
+    for (int k = 0; k < n; k += 8)
+        for (int i = 0; i < 8; ++i)
+            s[i] += a[k + i] * b[k + i];
+    return (double)(((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])));
+}
+
+/* The sum over k < n of a[k] times c[0] b[0][k] + ... + c[3] b[3][k] (n a
+ * multiple of 8), in eight partial sums as dot(). */
+static double dot_mix(const float *a, const float *const b[4], const float c[4], int n)
+{
+    const float *b0 = b[0], *b1 = b[1], *b2 = b[2], *b3 = b[3];
+    float c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], s[8] = {0.0f};
+    for (int k = 0; k < n; k += 8)
+        for (int i = 0; i < 8; ++i)
+            s[i] += a[k + i] * (c0 * b0[k + i] + c1 * b1[k + i] + c2 * b2[k + i] + c3 * b3[k + i]);
+    return (double)(((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])));
+}
+
+/* Adds the light of a factored node's h samples over [x0, x1] (in samples
+ * from h = -1; each the share of its width the range covers), times c, to
+ * the query's weights. */
+static void add_samples(plm_fiber_medulla_query *q, const float *rec, double x0, double x1, double c)
+{
+    if (!(x1 > x0))
+        return;
+    int first = (int)x0, last = (int)ceil(x1) - 1, P = q->table->res.points;
+    for (int i = first; i <= last; ++i) {
+        const float *r = rec + 4 * (size_t)i;
+        if (r[1] == 0.0f && r[2] == 0.0f && r[3] == 0.0f)
+            continue; /* a path that missed the medulla */
+        double share = (i == last ? x1 - i : 1.0) - (i == first ? x0 - i : 0.0);
+        add_light(q->w[0], PLM_FIBER_MEDULLA_POINTS, P, r[0], (float)(c * share), r + 1);
+    }
+}
+
+/* w[k] = (add ? w[k] : 0) + sum over i < 4 of c[i] r[i][k], k < n (the
+ * arrays do not overlap, so the loop vectorizes). */
+static void mix_rows(float *restrict w, const float *restrict r0, const float *restrict r1,
+                     const float *restrict r2, const float *restrict r3, const float c[4], int n, int add)
+{
+    float c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3];
+    for (int k = 0; k < n; ++k)
+        w[k] = (add ? w[k] : 0.0f) + c0 * r0[k] + c1 * r1[k] + c2 * r2[k] + c3 * r3[k];
+}
+
+/* The query's weights as the sum of coef[t] row[t] over n cumulative rows
+ * (n >= 1), four rows a pass; a pass short of four repeats the first row
+ * with weight 0. */
+static void set_rows(plm_fiber_medulla_query *q, const float *const *row, const float *coef, int n)
+{
+    int P = q->table->res.points;
+    for (int t = 0; t < n; t += 4) {
+        const float *r[4];
+        float c[4];
+        for (int i = 0; i < 4; ++i) {
+            r[i] = t + i < n ? row[t + i] : row[0];
+            c[i] = t + i < n ? coef[t + i] : 0.0f;
+        }
+        for (int ch = 0; ch < 3; ++ch)
+            mix_rows(q->w[ch], r[0] + ch * P, r[1] + ch * P, r[2] + ch * P, r[3] + ch * P, c, P, t > 0);
+    }
+}
+
+/* The light reaching each point (q->w), its mean over the view's interval
+ * blended over the nodes with weights wn. With F(x) the light of the h
+ * samples up to x (in samples from h = -1), the mean is F(x1) - F(x0) over
+ * the width: F at the cell bound nearest each end from the cumulative
+ * rows, and the h samples between the bound and the end added or
+ * subtracted (at most half a cell's). At a point interval, the density of
+ * the sample holding h. */
+static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_view *v, const int nodes[4],
+                           const double wn[4], plm_fiber_medulla_query *q)
+{
+    int S = m->res.records, n = m->res.h_cells * S, P = m->res.points, terms = 0;
+    double dg = PLM_PI / n, width = v->hmax - v->hmin;
+    double x0 = plm_clamp((v->asin_hmin + HALF_PI) / dg, 0.0, n), x1 = plm_clamp((v->asin_hmax + HALF_PI) / dg, 0.0, n);
+    int point = width < PLM_FIBER_POINT_WIDTH, i = x0 < n - 1 ? (int)x0 : n - 1;
+    int lo = (int)floor(x0 / S + 0.5), hi = (int)floor(x1 / S + 0.5); /* the nearest cell bounds */
+    double scale = point ? 1.0 / (sin(-HALF_PI + (i + 1) * dg) - sin(-HALF_PI + i * dg)) : 1.0 / width;
+    const float *row[8];
+    float coef[8];
+    for (int c = 0; c < 4; ++c) {
+        const float *rows = node_light(m, nodes[c]);
+        float k = (float)(wn[c] * scale);
+        if (wn[c] == 0.0 || point || hi == lo)
+            continue;
+        row[terms] = rows + light_row(m) * (size_t)hi, coef[terms++] = k;
+        if (lo > 0) /* row 0 is all zeros */
+            row[terms] = rows + light_row(m) * (size_t)lo, coef[terms++] = -k;
+    }
+    if (terms)
+        set_rows(q, row, coef, terms);
+    else
+        for (int ch = 0; ch < 3; ++ch)
+            memset(q->w[ch], 0, sizeof(float) * (size_t)P);
+    for (int c = 0; c < 4; ++c) {
+        const float *rec = node_light(m, nodes[c]) + (size_t)(m->res.h_cells + 1) * light_row(m);
+        double k = wn[c] * scale;
+        if (wn[c] == 0.0)
+            continue;
+        if (point) {
+            add_samples(q, rec, i, i + 1.0, k);
+            continue;
+        }
+        add_samples(q, rec, fmin(x0, lo * S), fmax(x0, lo * S), x0 < lo * S ? k : -k);
+        add_samples(q, rec, fmin(x1, hi * S), fmax(x1, hi * S), x1 > hi * S ? k : -k);
+    }
+}
+
+/* A factored table's query: the points' weights, the part's energy (the
+ * weights times the points' emitted energy) and the sampler's norm. */
+static void factored_prepare(const plm_fiber_medulla_table *m, const plm_fiber_view *v, const int nodes[4],
+                             const double wn[4], plm_fiber_medulla_query *q)
+{
+    int P = m->res.points;
+    factored_light(m, v, nodes, wn, q);
+    for (int k = 0; k < P; ++k) {
+        float mean = (q->w[0][k] + q->w[1][k] + q->w[2][k]) * (1.0f / 3.0f);
+        q->wbar[k] = mean > 0.0f ? mean : 0.0f;
+    }
+    const float *energy = point_energy(m);
+    double sum = dot(q->w[0], energy, P) + dot(q->w[1], energy + P, P) + dot(q->w[2], energy + 2 * P, P);
+    q->norm = dot(q->wbar, energy + 3 * P, P);
+    q->sum = q->norm > 0.0 ? plm_positive(sum) : 0.0; /* nothing to sample: nothing to see */
+    q->total = q->sum / 3.0;
+}
+
 void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
                                plm_fiber_medulla_query *q)
 {
@@ -596,6 +940,10 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
                                                                                    v->cos_theta)
                                                       : n - 1.0;
     plm_fiber_corners(m->symmetry, n, m->res.phi_nodes, m->phi_lo, m->phi_step, ft, v->phi, nodes, w);
+    if (m->factored) {
+        factored_prepare(m, v, nodes, w, q);
+        return;
+    }
     plm_fiber_h_rows rows;
     interval_rows(m, v, &rows);
     q->terms = plm_fiber_terms(m->data, node_floats(m), row_floats(m), nodes, w, &rows, q->term, q->coef, q->node_end);
@@ -652,6 +1000,35 @@ static void bin_columns(const plm_fiber_medulla_query *q, int a, int c0, int c1,
     }
 }
 
+/* A factored table's emission in band a, bin c: R, G, B and their mean, each over the points. */
+static const float *emission_bin(const plm_fiber_medulla_table *m, int a, int c)
+{
+    return m->data + 4 * (size_t)m->res.points * ((size_t)a * m->res.phi_bins + c);
+}
+
+/* A factored table's eval at wi into *f (if not NULL): the points'
+ * emission in the four bins around wi (bands a0, a0 + 1 by bins c0, c1)
+ * weighted by c (the bilinear weights over the density's denominator) and
+ * by the light reaching the points; returns the sampler's mass in the bin
+ * (in_a, in_c), the points' mean emission weighted by wbar. */
+static double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, int c1, int in_a, int in_c,
+                              const float c[4], rgb *f)
+{
+    const plm_fiber_medulla_table *m = q->table;
+    int P = m->res.points;
+    if (f) {
+        const float *e[4] = {emission_bin(m, a0, c0), emission_bin(m, a0, c1), emission_bin(m, a0 + 1, c0),
+                             emission_bin(m, a0 + 1, c1)};
+        double v[3];
+        for (int ch = 0; ch < 3; ++ch) {
+            const float *const b[4] = {e[0] + ch * P, e[1] + ch * P, e[2] + ch * P, e[3] + ch * P};
+            v[ch] = plm_positive(dot_mix(q->w[ch], b, c, P));
+        }
+        *f = rgb_make(v[0], v[1], v[2]);
+    }
+    return dot(q->wbar, emission_bin(m, in_a, in_c) + 3 * P, P);
+}
+
 void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf)
 {
     if (f)
@@ -682,8 +1059,16 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
     int in_a = (int)ya, in_c = xc - flc >= 0.5; /* theta >= 0: truncation is floor */
     in_a = in_a > bands - 1 ? bands - 1 : in_a;
     double fa = xa < 0.0 ? 0.0 : xa - a0, fc = xc - flc, area = 2.0 * wa * wc; /* a band holds both signs */
-    double mass;
-    if (f) {
+    /* Over area: a density per solid angle, or (per_theta) per unit theta and phi, which
+     * one more 1 / cos(theta_i) turns into one per solid angle; the last is eval's. */
+    double mass, norm = q->sum, den = area * (m->per_theta ? ct * ct : ct);
+    if (m->factored) {
+        /* The bilinear weights of the four bins, as below: the points' emission interpolated first. */
+        double lo = (1.0 - fa) * m->band_scale[a0] / den, hi = fa * m->band_scale[a0 + 1] / den;
+        const float c[4] = {(float)(lo * (1.0 - fc)), (float)(lo * fc), (float)(hi * (1.0 - fc)), (float)(hi * fc)};
+        mass = factored_lookup(q, a0, c0, c1, in_a, in_c ? c1 : c0, c, f);
+        norm = q->norm;
+    } else if (f) {
         double col[2][4][3], v[3];
         bin_columns(q, a0, c0, c1, col);
         for (int ch = 0; ch < 3; ++ch) {
@@ -691,9 +1076,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
             double hi0 = col[1][1][ch] - col[1][0][ch], hi1 = col[1][3][ch] - col[1][2][ch];
             double lo = (lo0 + (lo1 - lo0) * fc) * m->band_scale[a0];
             double hi = (hi0 + (hi1 - hi0) * fc) * m->band_scale[a0 + 1];
-            /* Over area: a density per solid angle, or (per_theta) per unit theta and phi, which
-             * one more 1 / cos(theta_i) turns into one per solid angle; the last is eval's. */
-            v[ch] = plm_positive((lo * (1.0 - fa) + hi * fa) / (area * (m->per_theta ? ct * ct : ct)));
+            v[ch] = plm_positive((lo * (1.0 - fa) + hi * fa) / den);
         }
         *f = rgb_make(v[0], v[1], v[2]);
         const double(*x)[3] = col[in_a - a0] + 2 * in_c;
@@ -704,7 +1087,84 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
                sum_at(q, 0, q->terms, column_offset(q, in_a, bin));
     }
     /* The sampler never picks a bin of no mass (or less, by rounding). */
-    *pdf = plm_positive(mass) / (q->sum * area * ct);
+    *pdf = plm_positive(mass) / (norm * area * ct);
+}
+
+/* A column of the row that sampling searches: the rotationally symmetric
+ * layout's sum over one node's terms (band a), or a factored point's
+ * cumulative row. */
+typedef struct sampled_row {
+    const plm_fiber_medulla_query *q;
+    int k0, k1, a;
+    const float *row;
+} sampled_row;
+
+static double row_column(const sampled_row *r, int col)
+{
+    return r->row ? r->row[col] : sum_at(r->q, r->k0, r->k1, column_offset(r->q, r->a, col));
+}
+
+/* wi in band a (the sign of theta_i and the place in the band by u1) and
+ * in the bin where the cumulative row reaches u2 times its end `mass` (its
+ * first probes by plm_fiber_search_probe, then bisection), uniform within
+ * the bin. */
+static int direction_in_band(const sampled_row *r, double mass, double u1, double u2, double angles[3], vec3 *wi)
+{
+    const plm_fiber_medulla_query *q = r->q;
+    double goal = u2 * mass, x0 = 0.0, x1 = mass;
+    int lo = 0, hi = q->table->res.phi_bins; /* column lo <= goal < column hi */
+    for (int probe = 0; hi - lo > 1; ++probe) {
+        int mid = plm_fiber_search_probe(probe, lo, hi, x0, x1, goal);
+        double x = row_column(r, mid);
+        if (x <= goal)
+            lo = mid, x0 = x;
+        else
+            hi = mid, x1 = x;
+    }
+    if (!(x1 > x0))
+        return 0;
+    /* Kept off the bins' edges by far more than rounding moves an angle, so
+     * that the lookup at these angles finds this bin (pdf = the sampler's). */
+    double v = u1 < 0.5 ? 2.0 * u1 : 2.0 * u1 - 1.0, edge = 1e-9;
+    double theta = (u1 < 0.5 ? -1.0 : 1.0) * (r->a + plm_clamp(v, edge, 1.0 - edge)) * q->band_width;
+    double frac = plm_clamp((goal - x0) / (x1 - x0), edge, 1.0 - edge);
+    double delta = plm_wrap_pi(-PLM_PI + (lo + frac) * q->bin_width - q->origin);
+    *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
+    angles[0] = theta;
+    angles[1] = delta;
+    angles[2] = sqrt(wi->x * wi->x + wi->y * wi->y);
+    return 1;
+}
+
+/* A factored table: a point by its weight times its emitted energy (mean of
+ * RGB), then with what is left of u0 a band of its emission by the
+ * cumulative band masses; the last point with weight and the last band
+ * take what rounding leaves. */
+static int factored_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
+                           vec3 *wi)
+{
+    const plm_fiber_medulla_table *m = q->table;
+    int P = m->res.points, bands = m->res.theta_bins, k = 0, last = 0;
+    const float *energy = point_energy(m) + 3 * P;
+    double target = u0 * q->norm;
+    for (; k < P; ++k) {
+        double x = q->wbar[k] * (double)energy[k];
+        if (!(x > 0.0))
+            continue;
+        last = k;
+        if (target < x)
+            break;
+        target -= x;
+    }
+    k = k < P ? k : last;
+    const float *band = point_sampling(m, k);
+    double t = plm_clamp(target / q->wbar[k], 0.0, band[bands]);
+    int a = 0;
+    while (a < bands - 1 && !(t < band[a + 1]))
+        ++a;
+    sampled_row r = {q, 0, 0, a, band + bands + 1 + (size_t)a * (m->res.phi_bins + 1)};
+    double mass = r.row[m->res.phi_bins];
+    return mass > 0.0 && direction_in_band(&r, mass, u1, u2, angles, wi);
 }
 
 int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
@@ -713,7 +1173,9 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     if (!q->table || !(q->sum > 0.0))
         return 0;
     const plm_fiber_medulla_table *m = q->table;
-    int bands = m->res.theta_bins, cols = m->res.phi_bins, c = 0, a = 0;
+    if (m->factored)
+        return factored_sample(q, u0, u1, u2, angles, wi);
+    int bands = m->res.theta_bins, c = 0, a = 0;
     /* A node by its energy, then with what is left of u0 a band by the
      * bands' masses in that node, each summed as its last column is, from
      * the rows' band totals, until u0 falls in one (the last node with
@@ -733,29 +1195,6 @@ int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double
     }
     if (!(mass > 0.0))
         return 0;
-    /* The column by the band's cumulative row, which ends at the band's mass
-     * (plm_fiber_search_probe). */
-    double goal = u2 * mass, x0 = 0.0, x1 = mass;
-    int lo = 0, hi = cols; /* column lo <= goal < column hi */
-    for (int probe = 0; hi - lo > 1; ++probe) {
-        int mid = plm_fiber_search_probe(probe, lo, hi, x0, x1, goal);
-        double x = sum_at(q, k0, k1, column_offset(q, a, mid));
-        if (x <= goal)
-            lo = mid, x0 = x;
-        else
-            hi = mid, x1 = x;
-    }
-    if (!(x1 > x0))
-        return 0;
-    /* Kept off the bins' edges by far more than rounding moves an angle, so
-     * that the lookup at these angles finds this bin (pdf = the sampler's). */
-    double v = u1 < 0.5 ? 2.0 * u1 : 2.0 * u1 - 1.0, edge = 1e-9;
-    double theta = (u1 < 0.5 ? -1.0 : 1.0) * (a + plm_clamp(v, edge, 1.0 - edge)) * q->band_width;
-    double frac = plm_clamp((goal - x0) / (x1 - x0), edge, 1.0 - edge);
-    double delta = plm_wrap_pi(-PLM_PI + (lo + frac) * q->bin_width - q->origin);
-    *wi = plm_fiber_direction(theta, q->phi_o + (q->flip ? -delta : delta));
-    angles[0] = theta;
-    angles[1] = delta;
-    angles[2] = sqrt(wi->x * wi->x + wi->y * wi->y);
-    return 1;
+    sampled_row r = {q, k0, k1, a, NULL};
+    return direction_in_band(&r, mass, u1, u2, angles, wi);
 }

@@ -6,16 +6,22 @@
  * A path is deterministic until it first reaches the medulla; what leaves
  * after that depends only on the point it reached and on how many lobes it
  * may still store. The build tabulates that emission once per fiber (many
- * quasi-random diffuse directions per medulla point), then, per view node
- * (|theta_o|, phi_o), deposits the emission of the points the deterministic
- * paths reach into a table over (h, |theta_i|, phi_i), cumulative in h and
- * in phi_i (over s = h / h_reach instead of h for a rotationally symmetric
- * fiber, below). phi_i is the fiber frame's (folded by the mirrors with wo), as
- * the emission is anchored to the fiber, not to the view; for a
- * rotationally symmetric fiber (one view node) it is phi_i - phi_o. The
- * part is symmetric in theta_i (a
- * diffuse bounce forgets the sign of the longitudinal direction), and
- * independent of the sign of theta_o. */
+ * quasi-random diffuse directions per medulla point). The part is symmetric
+ * in theta_i (a diffuse bounce forgets the sign of the longitudinal
+ * direction), and independent of the sign of theta_o. Two layouts:
+ *
+ * - Rotationally symmetric fibers (one view node): per |theta_o| node, the
+ *   emission of the points the deterministic paths reach is deposited into
+ *   a table over (s, |theta_i|, phi_i - phi_o), cumulative in s = h / h_reach
+ *   and in phi_i.
+ * - Every other fiber (factored): the two factors are kept apart. Per view
+ *   node (|theta_o|, phi_o) the light reaching each medulla point,
+ *   cumulative over h cells, and the traced h samples themselves (for the
+ *   interval's partial cells); per medulla point its emission over
+ *   (|theta_i|, phi_i) in the fiber's frame (folded by the mirrors with wo),
+ *   shared by all views. A query blends the light over the view nodes and
+ *   the interval into one weight per point; eval is the points' emission
+ *   weighted by it. */
 #ifndef PLUMAGE_RENDER_FIBER_MEDULLA_TABLE_H
 #define PLUMAGE_RENDER_FIBER_MEDULLA_TABLE_H
 
@@ -32,11 +38,17 @@ typedef struct plm_fiber_medulla_resolution {
     int h_cells;                /* uniform in asin(h), or asin(s) (below) */
     int theta_bins, phi_bins;   /* |theta_i| over [0, pi/2], phi_i over [-pi, pi) */
     int directions;             /* quasi-random diffuse directions per medulla point */
+    /* Factored tables only: medulla points (a multiple of 8, at most
+     * PLM_FIBER_MEDULLA_POINTS) and traced h samples kept per h cell. */
+    int points, records;
 } plm_fiber_medulla_resolution;
+
+#define PLM_FIBER_MEDULLA_POINTS 96
 
 typedef struct plm_fiber_medulla_table {
     plm_fiber_medulla_resolution res; /* theta_nodes 0: no medulla, no table */
     int symmetry;                     /* the fiber table's (render/fiber_table.h) */
+    int factored;                     /* 1: the factored layout (every fiber but a rotationally symmetric one) */
     double theta_max, eta, u_last; /* theta_o nodes as the other part's (render/fiber_table.h) */
     double phi_lo, phi_step;
     /* Rotationally symmetric: the medulla's radius r. Paths meet the medulla
@@ -52,8 +64,12 @@ typedef struct plm_fiber_medulla_table {
      * width over the integral of cos(theta) across it. */
     int per_theta;
     double *band_scale;
-    float *data;    /* per node, rows 0..h_cells, each: bands 0..theta_bins-1 of columns 0..phi_bins,
-                     * then each band's total, RGB; points into the fiber table's data */
+    /* Rotationally symmetric: per node, rows 0..h_cells, each: bands
+     * 0..theta_bins-1 of columns 0..phi_bins, then each band's total, RGB.
+     * Factored: the points' emission, their sampling tables, then per node
+     * the light's cumulative rows and the h samples (fiber_medulla_table.c).
+     * Points into the fiber table's data. */
+    float *data;
     size_t floats;
 } plm_fiber_medulla_table;
 
@@ -95,6 +111,13 @@ typedef struct plm_fiber_medulla_query {
     double phi_o;  /* of wo */
     double band_width, bin_width; /* of a |theta_i| band and a phi_i bin */
     double origin; /* the columns' azimuth is the relative azimuth delta (below) plus this */
+    /* Factored tables: the light reaching each medulla point, its mean over
+     * the interval blended over the view nodes (RGB, w[channel][point]);
+     * wbar, its mean over RGB (at least 0), by which sampling and pdf weight
+     * the points' emission (mean of RGB); norm, the sum over the points of
+     * wbar times the point's emitted energy. */
+    float w[3][PLM_FIBER_MEDULLA_POINTS], wbar[PLM_FIBER_MEDULLA_POINTS];
+    double norm;
 } plm_fiber_medulla_query;
 
 /* v: wo and the interval as both parts see them (render/fiber_table.h). */

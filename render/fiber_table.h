@@ -20,7 +20,7 @@
 #include "render/fiber.h"
 #include "render/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 14
+#define PLM_FIBER_TABLE_VERSION 15
 /* |theta_o| of a table's limit node (plm_fiber_table.limit_node). */
 #define PLM_FIBER_THETA_LIMIT (89.9 * PLM_PI / 180.0)
 /* Default resolution aims at this many bytes per table. */

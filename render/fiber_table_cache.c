@@ -21,7 +21,7 @@ typedef struct cache_header {
     uint32_t version, header_bytes;
     uint64_t key;
     int32_t theta_nodes, phi_nodes, h_cells, phi_bins, symmetry, grazing_nodes, grazing_cells, reserved;
-    int32_t medulla[6]; /* the medulla part's resolution */
+    int32_t medulla[8]; /* the medulla part's resolution */
     double params[PARAM_WORDS];
     uint64_t floats, checksum;
 } cache_header;
@@ -79,7 +79,8 @@ static void expected_header(const plm_fiber_table *t, cache_header *h)
     h->grazing_nodes = t->grazing_nodes;
     h->grazing_cells = t->grazing_cells;
     const plm_fiber_medulla_resolution *r = &t->medulla.res;
-    const int32_t medulla[6] = {r->theta_nodes, r->phi_nodes, r->h_cells, r->theta_bins, r->phi_bins, r->directions};
+    const int32_t medulla[8] = {r->theta_nodes, r->phi_nodes, r->h_cells,  r->theta_bins,
+                                r->phi_bins,  r->directions, r->points, r->records};
     memcpy(h->medulla, medulla, sizeof medulla);
     param_words(&t->params, h->params);
     h->floats = t->floats;

@@ -248,7 +248,7 @@ static void tabulated_sampling_matches_pdf_at_grazing_views(void **state)
     plm_fiber_table_options o = {0};
     o.no_cache = o.quiet = 1;
     o.theta_nodes = 7, o.phi_nodes = 6, o.h_cells = 16, o.phi_bins = 96;
-    o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512};
+    o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512, 16, 8};
     plm_error err;
     if (plm_feather_params_build_tables(&p, &o, &err) != PLM_OK)
         fail_msg("%s", err.message);
@@ -359,7 +359,7 @@ static void sampled_weights_estimate_the_mixture(void **state)
         plm_fiber_table_options o = {0};
         o.no_cache = o.quiet = 1;
         o.theta_nodes = 5, o.phi_nodes = 4, o.h_cells = 8, o.phi_bins = 64;
-        o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512};
+        o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512, 16, 8};
         plm_error err;
         if (t < 2)
             p.bcsdf = PLM_BCSDF_STOCHASTIC;

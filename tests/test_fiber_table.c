@@ -38,7 +38,7 @@ static plm_fiber_table_options test_options(const char *cache_dir, int theta_nod
     o.no_cache = cache_dir == NULL;
     o.quiet = 1;
     o.theta_nodes = theta_nodes, o.phi_nodes = phi_nodes, o.h_cells = h_cells, o.phi_bins = phi_bins;
-    o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512}; /* 10-degree bins */
+    o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512, 16, 8}; /* 10-degree bins; 16 points */
     return o;
 }
 
@@ -269,22 +269,87 @@ static void white_furnace(void **state)
     }
 }
 
+/* The factored medulla part (an off-centre medulla) reads an interval's
+ * partial h cells from its traced h samples. At a view node (no blending),
+ * for intervals inside one h cell across an offset where paths start or
+ * stop meeting the medulla straight after entering (|h| < 0.9), its energy matches the traced mean of the
+ * medulla lobes' energy (2 10^5 paths, h in strata) to within the share of
+ * the interval of the one sample straddling that offset (all in or all
+ * out) plus 2% (the emission interpolated between 16 points). A cell's
+ * light spread evenly over it would be off by up to the cell's share on
+ * the far side of the offset. */
+static void medulla_partial_cells_match_trace(void **state)
+{
+    (void)state;
+    plm_fiber_params p = white_fiber(3, 1.6);
+    p.medulla_a = p.medulla_b = 0.3; /* small enough that paths miss it well inside the silhouettes */
+    plm_fiber_table_options o = test_options(NULL, 4, 3, 8, 64);
+    o.medulla.records = 256; /* the light reaching the medulla has features a few tenths of a degree wide in asin(h) */
+    plm_fiber_table *t = get_table(&p, &o);
+    const plm_fiber_medulla_table *m = &t->medulla;
+    assert_true(m->factored);
+    double cell = PLM_PI / m->res.h_cells, sample = cell / m->res.records; /* widths in asin(h) */
+    plm_fiber_lobe lobes[5];
+    plm_fiber_medulla_hit hit;
+    plm_rng rng;
+    plm_rng_seed(&rng, 41, 0);
+    int edges = 0;
+    for (int node = 0; node < m->res.theta_nodes * m->res.phi_nodes && edges < 3; ++node) {
+        vec3 wo = plm_fiber_direction(
+            plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, node / m->res.phi_nodes),
+            m->phi_lo + (node % m->res.phi_nodes) * m->phi_step);
+        int prev = 0;
+        for (int i = 1; i < 2000 && edges < 3; ++i) { /* inside the silhouettes */
+            double g = -0.5 * PLM_PI + PLM_PI * i / 2000;
+            int now = plm_fiber_trace_to_medulla(&p, wo, sin(g), lobes, &hit) && hit.lobes == 1;
+            int edge = now != prev;
+            prev = now;
+            if (!edge || fabs(sin(g)) > 0.9) /* near the silhouettes paths toggle fast */
+                continue;
+            double lo = floor((g + 0.5 * PLM_PI) / cell) * cell - 0.5 * PLM_PI; /* the cell's lower bound */
+            double g0 = fmax(lo + 0.02 * cell, g - 0.1 * cell), g1 = fmin(lo + 0.98 * cell, g + 0.3 * cell);
+            double hmin = sin(g0), hmax = sin(g1), energy = 0.0;
+            const int sets = 200000;
+            for (int s = 0; s < sets; ++s) {
+                int n = plm_fiber_trace(&p, wo, hmin + (hmax - hmin) * (s + plm_rng_uniform(&rng)) / sets, &rng, lobes);
+                for (int k = 0; k < n; ++k)
+                    if (lobes[k].medulla)
+                        energy += (lobes[k].throughput.r + lobes[k].throughput.g + lobes[k].throughput.b) / (3.0 * sets);
+            }
+            plm_fiber_bcsdf b;
+            plm_fiber_bcsdf_prepare(&p, t, wo, hmin, hmax, NULL, &b);
+            double straddle = sample / (g1 - g0);
+            fprintf(stderr,
+                    "partial cell, node %d, h in [%.4f, %.4f] across %.4f: medulla part %.5f, traced %.5f (allowed "
+                    "%.1f%%)\n",
+                    node, hmin, hmax, sin(g), b.med.total, energy, 100.0 * (straddle + 0.02));
+            assert_double_near(b.med.total, energy, (straddle + 0.02) * energy);
+            ++edges;
+        }
+    }
+    assert_int_equal(edges, 3);
+    plm_fiber_table_free(t);
+}
+
 /* sigma_a = 0 with a white medulla (concentric in a circular cortex, and
  * off-centre in an elliptical one): the integral of eval cos, medulla part
  * included, is the mean lobe energy over the h-interval of the one-go
  * tracer (2 10^5 traces, strata in h, random bounces; its standard error is
  * printed), and the pdf integrates to 1. How the energy splits between the
  * two parts changes fast with phi_o in an elliptical fiber, so the two
- * tables share their view nodes here: then the interpolated energies add
- * up (to how finely the other part's h cells resolve where paths start
- * meeting the medulla, which the concentric medulla's rows put on a cell
- * bound) and the test checks the parts' normalisation, not the
- * interpolation (whose error slow_fiber_table measures). */
+ * tables share their view nodes and h cells here, and the interval's ends
+ * are put on cell bounds (the part without the medulla spreads a partial
+ * cell's mass evenly, while the factored medulla part reads its traced h
+ * samples, so in a partial cell where paths start meeting the medulla the
+ * two would not add up): then the interpolated energies add up and the
+ * test checks the parts' normalisation, not the interpolation (whose error
+ * slow_fiber_table measures). */
 static void white_furnace_medulla(void **state)
 {
     (void)state;
     plm_fiber_table_options o = test_options(NULL, 7, 5, 32, 128);
     o.medulla.theta_nodes = o.theta_nodes, o.medulla.phi_nodes = o.phi_nodes, o.medulla.h_cells = o.h_cells;
+    o.grazing_nodes = -1; /* the same h cells at every node */
     for (int e = 0; e < 2; ++e) {
         plm_fiber_params p = white_fiber(e ? 3 : 2, e ? 1.6 : 1.0);
         /* The concentric fiber's bands narrower than beta_m, the other's
@@ -300,6 +365,8 @@ static void white_furnace_medulla(void **state)
             vec3 wo;
             double hmin, hmax, energy = 0.0, sq = 0.0;
             random_query(&rng, &wo, &hmin, &hmax);
+            hmin = t->h_node[(int)lround((asin(hmin) / PLM_PI + 0.5) * o.h_cells)];
+            hmax = t->h_node[(int)lround((asin(hmax) / PLM_PI + 0.5) * o.h_cells)];
             const int sets = 200000;
             for (int s = 0; s < sets; ++s) {
                 double x = 0.0;
@@ -678,7 +745,7 @@ static void medulla_override_over_budget(void **state)
     plm_fiber_params p;
     plm_fiber_params_figure7(&p, 3);
     plm_fiber_table_options o = {0};
-    o.medulla.phi_nodes = 200;
+    o.medulla.phi_nodes = 400;
     plm_fiber_table t;
     plm_fiber_table_layout(&p, &o, &t);
     assert_true(sizeof(float) * t.medulla.floats > PLM_FIBER_TABLE_BUDGET);
@@ -695,6 +762,7 @@ int main(void)
         cmocka_unit_test(medulla_reach_matches_trace),
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(white_furnace_medulla),
+        cmocka_unit_test(medulla_partial_cells_match_trace),
         cmocka_unit_test(moving_lobes_sampling_matches_pdf),
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(grazing_cells_integrate_and_sample),
