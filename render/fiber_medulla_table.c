@@ -224,7 +224,8 @@ double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_thet
 /* ---- building ------------------------------------------------------------ */
 
 /* The emission: per medulla point and lobe class, bin masses over |theta_i|
- * bands and phi_i bins (PHI_REFINE per table column), RGB. */
+ * bands and phi_i bins, RGB (a rotationally symmetric table's PHI_REFINE
+ * per column, a factored table's its columns). */
 typedef struct emission {
     int points, classes, bands, bins;
     float *mass;
@@ -387,11 +388,11 @@ static void build_emission(build_ctx *b, int point, double *scratch, plm_fiber_l
 }
 
 /* Pools the emission over the fiber's symmetries, which map medulla points
- * onto medulla points (their count is a multiple of 4) and emission bins onto
- * emission bins (their count a multiple of the points'
- * for a rotation, even for the mirrors): a rotation by t turns
- * phi by t; x -> -x takes t to pi - t and phi to pi - phi; y -> -y takes t
- * and phi to -t and -phi. Each point's emission becomes the mean of its
+ * onto medulla points (their count is even, a multiple of 4 for a
+ * rotationally symmetric table) and emission bins onto emission bins (their
+ * count even, and for a rotation a multiple of the points'): a rotation by t
+ * turns phi by t; x -> -x takes t to pi - t and phi to pi - phi; y -> -y
+ * takes t and phi to -t and -phi. Each point's emission becomes the mean of its
  * images, which has the same expectation and less noise. */
 static int symmetrize(build_ctx *b, int symmetry)
 {
@@ -641,8 +642,8 @@ static int store_emission(const build_ctx *b)
 /* One view node of a factored table: `records` h samples per cell (the
  * midpoint rule in asin(h)), each path traced to the medulla and kept as the
  * position of the point it reaches among the points (add_light) and the
- * light it brings times its width in h, and the
- * cumulative rows of that light per point (row 0 is all zeros). */
+ * light it brings times its width in h; and the cumulative rows of that
+ * light per point (row 0 is all zeros). */
 static void build_factored_node(build_ctx *b, int node, double *scratch, plm_fiber_lobe *lobes)
 {
     const plm_fiber_medulla_table *m = b->m;
