@@ -1011,9 +1011,10 @@ static const float *emission_bin(const plm_fiber_medulla_table *m, int a, int c)
  * emission in the four bins around wi (bands a0, a0 + 1 by bins c0, c1)
  * weighted by c (the bilinear weights over the density's denominator) and
  * by the light reaching the points; returns the sampler's mass in the bin
- * (in_a, in_c), the points' mean emission weighted by wbar. */
+ * (in_a, in_c), the points' mean emission weighted by wbar, if pdf is not
+ * NULL (else 0). */
 static double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, int c1, int in_a, int in_c,
-                              const float c[4], rgb *f)
+                              const float c[4], rgb *f, const double *pdf)
 {
     const plm_fiber_medulla_table *m = q->table;
     int P = m->res.points;
@@ -1027,14 +1028,15 @@ static double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, 
         }
         *f = rgb_make(v[0], v[1], v[2]);
     }
-    return dot(q->wbar, emission_bin(m, in_a, in_c) + 3 * P, P);
+    return pdf ? dot(q->wbar, emission_bin(m, in_a, in_c) + 3 * P, P) : 0.0;
 }
 
 void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf)
 {
     if (f)
         *f = rgb_gray(0.0);
-    *pdf = 0.0;
+    if (pdf)
+        *pdf = 0.0;
     if (!q->table || !(q->sum > 0.0))
         return;
     const plm_fiber_medulla_table *m = q->table;
@@ -1067,7 +1069,7 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         /* The bilinear weights of the four bins, as below: the points' emission interpolated first. */
         double lo = (1.0 - fa) * m->band_scale[a0] / den, hi = fa * m->band_scale[a0 + 1] / den;
         const float c[4] = {(float)(lo * (1.0 - fc)), (float)(lo * fc), (float)(hi * (1.0 - fc)), (float)(hi * fc)};
-        mass = factored_lookup(q, a0, c0, c1, in_a, in_c ? c1 : c0, c, f);
+        mass = factored_lookup(q, a0, c0, c1, in_a, in_c ? c1 : c0, c, f, pdf);
         norm = q->norm;
     } else if (f) {
         double col[2][4][3], v[3];
@@ -1088,7 +1090,8 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
                sum_at(q, 0, q->terms, column_offset(q, in_a, bin));
     }
     /* The sampler never picks a bin of no mass (or less, by rounding). */
-    *pdf = plm_positive(mass) / (norm * area * ct);
+    if (pdf)
+        *pdf = plm_positive(mass) / (norm * area * ct);
 }
 
 /* A column of the row that sampling searches: the rotationally symmetric

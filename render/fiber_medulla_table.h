@@ -128,7 +128,8 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
  * phi_i - phi_o, mirrored when the view is, cos(theta_i)): eval into *f (if
  * not NULL), the bins' densities per solid angle interpolated bilinearly
  * between bin centres, over cos(theta_i); and the sampler's
- * piecewise-constant solid-angle density into *pdf. */
+ * piecewise-constant solid-angle density into *pdf (if not NULL; one of
+ * the two is asked for). */
 void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf);
 /* A view node by its energy and a |theta_i| band by its mass in that node
  * (u0), the sign of theta_i and the position in the band (u1), a phi_i bin

@@ -1014,7 +1014,8 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
     out->pick_table = out->total > 0.0 ? out->tab.total / out->total : 0.0;
 }
 
-/* eval into *f (if not NULL) and the mixture's pdf at wi; angles, if not
+/* eval into *f (if not NULL) and the mixture's pdf at wi into *pdf (if not
+ * NULL: eval alone need not pay for the medulla part's pdf); angles, if not
  * NULL, are wi's (theta_i, delta, cos(theta_i)) in the table's orientation,
  * known when a part sampled wi; both parts read them. */
 static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles, rgb *f, double *pdf)
@@ -1022,13 +1023,15 @@ static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles
     if (!b->tab.table) {
         if (f)
             *f = plm_fiber_eval(b->params, &b->set, wi);
-        *pdf = plm_fiber_pdf(b->params, &b->set, wi);
+        if (pdf)
+            *pdf = plm_fiber_pdf(b->params, &b->set, wi);
         return;
     }
     double tab_pdf = 0.0, own[3];
     if (f)
         *f = rgb_gray(0.0);
-    *pdf = 0.0;
+    if (pdf)
+        *pdf = 0.0;
     if (!angles) {
         if (!(b->total > 0.0) || !table_angles(&b->tab, wi, &own[0], &own[1], &own[2]))
             return;
@@ -1036,22 +1039,23 @@ static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles
     }
     if (b->tab.total > 0.0)
         table_lookup_angles(&b->tab, angles[0], angles[1], angles[2], f, &tab_pdf);
-    *pdf = b->pick_table * tab_pdf;
+    if (pdf)
+        *pdf = b->pick_table * tab_pdf;
     if (b->med.total > 0.0) {
         rgb med;
         double med_pdf;
-        plm_fiber_medulla_lookup(&b->med, angles, f ? &med : NULL, &med_pdf);
+        plm_fiber_medulla_lookup(&b->med, angles, f ? &med : NULL, pdf ? &med_pdf : NULL);
         if (f)
             *f = rgb_add(*f, med);
-        *pdf += (1.0 - b->pick_table) * med_pdf;
+        if (pdf)
+            *pdf += (1.0 - b->pick_table) * med_pdf;
     }
 }
 
 rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
 {
     rgb f;
-    double unused;
-    bcsdf_lookup(b, wi, NULL, &f, &unused);
+    bcsdf_lookup(b, wi, NULL, &f, NULL);
     return f;
 }
 
