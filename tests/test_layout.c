@@ -530,6 +530,17 @@ static stack_grid stack_wing(const plm_layout *l, const plm_feather *f)
     return g;
 }
 
+/* The alula check both wing tests end with, then their teardown. */
+static void alula_rests_on_then_free(plm_layout *l, plm_feather *f, stack_grid *g, plm_species *sp)
+{
+    alula_rests_on(l, f, g);
+    free(g->cells);
+    free_prototypes(f, l->prototype_count);
+    plm_layout_free(l);
+    for (int r = 0; r < PLM_WING_ROWS; ++r)
+        plm_species_free(&sp[r]);
+}
+
 static void wing_rows_overlap_in_order(void **state)
 {
     (void)state;
@@ -560,12 +571,7 @@ static void wing_rows_overlap_in_order(void **state)
     assert_true((double)right[0] / pairs[0] > 0.99);
     assert_true((double)right[1] / pairs[1] > 0.95);
     assert_true((double)right[2] / pairs[2] > 0.9);
-    alula_rests_on(&l, f, &g);
-    free(g.cells);
-    free_prototypes(f, l.prototype_count);
-    plm_layout_free(&l);
-    for (int r = 0; r < PLM_WING_ROWS; ++r)
-        plm_species_free(&sp[r]);
+    alula_rests_on_then_free(&l, f, &g, sp);
 }
 
 /* On presets/scenes/default.json's wing; wing_rows_overlap_in_order checks a
@@ -582,12 +588,7 @@ static void wing_alula_rests_at_the_wrist(void **state)
     assert_int_equal(plm_layout_wing(&p, rows, &l, &err), PLM_OK);
     plm_feather *f = generate_prototypes(&l, rows);
     stack_grid g = stack_wing(&l, f);
-    alula_rests_on(&l, f, &g);
-    free(g.cells);
-    free_prototypes(f, l.prototype_count);
-    plm_layout_free(&l);
-    for (int r = 0; r < PLM_WING_ROWS; ++r)
-        plm_species_free(&sp[r]);
+    alula_rests_on_then_free(&l, f, &g, sp);
 }
 
 /* Rows, counts, the size ramps and folding. */
