@@ -813,20 +813,46 @@ static double dot_mix(const float *a, const float *const b[4], const float c[4],
     return (double)(((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])));
 }
 
-/* Adds the light of a factored node's h samples over [x0, x1] (in samples
- * from h = -1; each the share of its width the range covers), times c, to
- * the query's weights. */
-static void add_samples(plm_fiber_medulla_query *q, const float *rec, double x0, double x1, double c)
+/* Adds the light of the four nodes' h samples over [x0, x1] (in samples
+ * from h = -1; each the share of its width the range covers), times k[c]
+ * for node c's records rec[c], to acc: per point four floats, the light
+ * (RGB) in the last three as in a record, split between the two points
+ * around the record's position (point P + 1 stands for 1 and P for 0, for a
+ * position rounded up onto P). A record adds its four floats whole, a
+ * vector operation per point with no scattered channels; the position it
+ * carries in its first float lands in the first, which is never read, and
+ * a path that missed the medulla (no light) adds zeros, so no test. */
+static void add_samples(float (*acc)[4], const float *const rec[4], const float k[4], double x0, double x1)
 {
-    if (!(x1 > x0))
-        return;
-    int first = (int)x0, last = (int)ceil(x1) - 1, P = q->table->res.points;
+    int first = (int)x0, last = (int)ceil(x1) - 1;
     for (int i = first; i <= last; ++i) {
-        const float *r = rec + 4 * (size_t)i;
-        if (r[1] == 0.0f && r[2] == 0.0f && r[3] == 0.0f)
-            continue; /* a path that missed the medulla */
-        double share = (i == last ? x1 - i : 1.0) - (i == first ? x0 - i : 0.0);
-        add_light(q->w[0], PLM_FIBER_MEDULLA_POINTS, P, r[0], (float)(c * share), r + 1);
+        float share = (float)((i == last ? x1 - i : 1.0) - (i == first ? x0 - i : 0.0));
+        for (int c = 0; c < 4; ++c) {
+            float v[4], lo[4], hi[4]; /* the record, and points k0 and k0 + 1: loaded before any store */
+            memcpy(v, rec[c] + 4 * (size_t)i, sizeof v);
+            int k0 = (int)v[0];
+            float whole = share * k[c], b = (v[0] - (float)k0) * whole, a = whole - b;
+            memcpy(lo, acc[k0], sizeof lo);
+            memcpy(hi, acc[k0 + 1], sizeof hi);
+            for (int j = 0; j < 4; ++j) {
+                lo[j] += a * v[j];
+                hi[j] += b * v[j];
+            }
+            memcpy(acc[k0], lo, sizeof lo);
+            memcpy(acc[k0 + 1], hi, sizeof hi);
+        }
+    }
+}
+
+/* w_r, w_g, w_b += acc's last three floats per point (of n; the arrays do
+ * not overlap, so the loop vectorizes, four points a pass). */
+static void add_channels(float *restrict w_r, float *restrict w_g, float *restrict w_b, const float (*restrict acc)[4],
+                         int n)
+{
+    for (int t = 0; t < n; ++t) {
+        w_r[t] += acc[t][1];
+        w_g[t] += acc[t][2];
+        w_b[t] += acc[t][3];
     }
 }
 
@@ -863,8 +889,9 @@ static void set_rows(plm_fiber_medulla_query *q, const float *const *row, const 
  * samples up to x (in samples from h = -1), the mean is F(x1) - F(x0) over
  * the width: F at the cell bound nearest each end from the cumulative
  * rows, and the h samples between the bound and the end added or
- * subtracted (at most half a cell's). At a point interval, the density of
- * the sample holding h. */
+ * subtracted (at most half a cell's), all four nodes' in one pass over the
+ * samples, summed point by point and then added to the channels. At a point
+ * interval, the density of the sample holding h. */
 static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_view *v, const int nodes[4],
                            const double wn[4], plm_fiber_medulla_query *q)
 {
@@ -890,18 +917,28 @@ static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_vie
     else
         for (int ch = 0; ch < 3; ++ch)
             memset(q->w[ch], 0, sizeof(float) * (size_t)P);
-    for (int c = 0; c < 4; ++c) {
-        const float *rec = node_light(m, nodes[c]) + (size_t)(m->res.h_cells + 1) * light_row(m);
-        double k = wn[c] * scale;
-        if (wn[c] == 0.0)
-            continue;
-        if (point) {
-            add_samples(q, rec, i, i + 1.0, k);
-            continue;
-        }
-        add_samples(q, rec, fmin(x0, lo * S), fmax(x0, lo * S), x0 < lo * S ? k : -k);
-        add_samples(q, rec, fmin(x1, hi * S), fmax(x1, hi * S), x1 > hi * S ? k : -k);
+    /* The samples between each end and its bound, added (an end beyond its bound) or subtracted. */
+    double x[2][2] = {{fmin(x0, lo * S), fmax(x0, lo * S)}, {fmin(x1, hi * S), fmax(x1, hi * S)}};
+    float sign[2] = {x0 < lo * S ? 1.0f : -1.0f, x1 > hi * S ? 1.0f : -1.0f};
+    if (point)
+        x[0][0] = i, x[0][1] = i + 1.0, x[1][0] = x[1][1] = 0.0, sign[0] = 1.0f;
+    if (!(x[0][1] > x[0][0]) && !(x[1][1] > x[1][0]))
+        return;
+    const float *rec[4];
+    for (int c = 0; c < 4; ++c)
+        rec[c] = node_light(m, nodes[c]) + (size_t)(m->res.h_cells + 1) * light_row(m);
+    float acc[PLM_FIBER_MEDULLA_POINTS + 2][4]; /* point-major: add_samples */
+    memset(acc, 0, sizeof(float) * 4 * (size_t)(P + 2));
+    for (int e = 0; e < 2; ++e) {
+        const float k[4] = {(float)(wn[0] * scale) * sign[e], (float)(wn[1] * scale) * sign[e],
+                            (float)(wn[2] * scale) * sign[e], (float)(wn[3] * scale) * sign[e]};
+        if (x[e][1] > x[e][0])
+            add_samples(acc, rec, k, x[e][0], x[e][1]);
     }
+    for (int j = 0; j < 2; ++j) /* points P and P + 1 are 0 and 1 */
+        for (int ch = 1; ch < 4; ++ch)
+            acc[j][ch] += acc[P + j][ch];
+    add_channels(q->w[0], q->w[1], q->w[2], acc, P);
 }
 
 /* A factored table's query: the points' weights, the part's energy (the
