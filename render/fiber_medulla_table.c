@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/vector_clones.h"
 #include "render/fiber_table.h"
 
 #define HALF_PI (0.5 * PLM_PI)
@@ -792,7 +793,7 @@ static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view
 
 /* The sum over k < n of a[k] b[k] (n a multiple of 8), in eight partial
  * sums that the compiler keeps in vector registers. */
-static double dot(const float *a, const float *b, int n)
+static PLM_VECTOR_INLINE double dot(const float *a, const float *b, int n)
 {
     float s[8] = {0.0f};
     for (int k = 0; k < n; k += 8)
@@ -803,7 +804,7 @@ static double dot(const float *a, const float *b, int n)
 
 /* The sum over k < n of a[k] times c[0] b[0][k] + ... + c[3] b[3][k] (n a
  * multiple of 8), in eight partial sums as dot(). */
-static double dot_mix(const float *a, const float *const b[4], const float c[4], int n)
+static PLM_VECTOR_INLINE double dot_mix(const float *a, const float *const b[4], const float c[4], int n)
 {
     const float *b0 = b[0], *b1 = b[1], *b2 = b[2], *b3 = b[3];
     float c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], s[8] = {0.0f};
@@ -858,8 +859,9 @@ static void add_channels(float *restrict w_r, float *restrict w_g, float *restri
 
 /* w[k] = (add ? w[k] : 0) + sum over i < 4 of c[i] r[i][k], k < n (the
  * arrays do not overlap, so the loop vectorizes). */
-static void mix_rows(float *restrict w, const float *restrict r0, const float *restrict r1,
-                     const float *restrict r2, const float *restrict r3, const float c[4], int n, int add)
+static PLM_VECTOR_INLINE void mix_rows(float *restrict w, const float *restrict r0, const float *restrict r1,
+                                       const float *restrict r2, const float *restrict r3, const float c[4], int n,
+                                       int add)
 {
     float c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3];
     for (int k = 0; k < n; ++k)
@@ -869,7 +871,7 @@ static void mix_rows(float *restrict w, const float *restrict r0, const float *r
 /* The query's weights as the sum of coef[t] row[t] over n cumulative rows
  * (n >= 1), four rows a pass; a pass short of four repeats the first row
  * with weight 0. */
-static void set_rows(plm_fiber_medulla_query *q, const float *const *row, const float *coef, int n)
+PLM_VECTOR_CLONES static void set_rows(plm_fiber_medulla_query *q, const float *const *row, const float *coef, int n)
 {
     int P = q->table->res.points;
     for (int t = 0; t < n; t += 4) {
@@ -941,22 +943,28 @@ static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_vie
     add_channels(q->w[0], q->w[1], q->w[2], acc, P);
 }
 
+/* The query's wbar from its weights w, and from those and the points'
+ * emitted energy (RGB and mean, each over the P points) the part's energy
+ * and the sampler's norm. */
+PLM_VECTOR_CLONES static void point_sums(plm_fiber_medulla_query *q, const float *energy, int P)
+{
+    for (int k = 0; k < P; ++k) {
+        float mean = (q->w[0][k] + q->w[1][k] + q->w[2][k]) * (1.0f / 3.0f);
+        q->wbar[k] = mean > 0.0f ? mean : 0.0f;
+    }
+    double sum = dot(q->w[0], energy, P) + dot(q->w[1], energy + P, P) + dot(q->w[2], energy + 2 * P, P);
+    q->norm = dot(q->wbar, energy + 3 * P, P);
+    q->sum = q->norm > 0.0 ? plm_positive(sum) : 0.0; /* nothing to sample: nothing to see */
+    q->total = q->sum / 3.0;
+}
+
 /* A factored table's query: the points' weights, the part's energy (the
  * weights times the points' emitted energy) and the sampler's norm. */
 static void factored_prepare(const plm_fiber_medulla_table *m, const plm_fiber_view *v, const int nodes[4],
                              const double wn[4], plm_fiber_medulla_query *q)
 {
-    int P = m->res.points;
     factored_light(m, v, nodes, wn, q);
-    for (int k = 0; k < P; ++k) {
-        float mean = (q->w[0][k] + q->w[1][k] + q->w[2][k]) * (1.0f / 3.0f);
-        q->wbar[k] = mean > 0.0f ? mean : 0.0f;
-    }
-    const float *energy = point_energy(m);
-    double sum = dot(q->w[0], energy, P) + dot(q->w[1], energy + P, P) + dot(q->w[2], energy + 2 * P, P);
-    q->norm = dot(q->wbar, energy + 3 * P, P);
-    q->sum = q->norm > 0.0 ? plm_positive(sum) : 0.0; /* nothing to sample: nothing to see */
-    q->total = q->sum / 3.0;
+    point_sums(q, point_energy(m), m->res.points);
 }
 
 void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
@@ -1050,8 +1058,8 @@ static const float *emission_bin(const plm_fiber_medulla_table *m, int a, int c)
  * by the light reaching the points; returns the sampler's mass in the bin
  * (in_a, in_c), the points' mean emission weighted by wbar, if pdf is not
  * NULL (else 0). */
-static double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, int c1, int in_a, int in_c,
-                              const float c[4], rgb *f, const double *pdf)
+PLM_VECTOR_CLONES static double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, int c1, int in_a,
+                                                int in_c, const float c[4], rgb *f, const double *pdf)
 {
     const plm_fiber_medulla_table *m = q->table;
     int P = m->res.points;
@@ -1183,7 +1191,7 @@ static int direction_in_band(const sampled_row *r, double mass, double u1, doubl
  * are skipped by their sum first (a fixed count the compiler unrolls; the
  * points are a multiple of 8), so that a pick reads about a quarter of the
  * masses one by one. */
-static int pick_point(const plm_fiber_medulla_query *q, const float *energy, int P, double *target)
+static PLM_VECTOR_INLINE int pick_point(const plm_fiber_medulla_query *q, const float *energy, int P, double *target)
 {
     double t = *target;
     int k = 0;
@@ -1210,8 +1218,8 @@ static int pick_point(const plm_fiber_medulla_query *q, const float *energy, int
 /* A factored table: a point by its weight times its emitted energy (mean of
  * RGB), then with what is left of u0 a band of its emission by the
  * cumulative band masses; the last band takes what rounding leaves. */
-static int factored_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
-                           vec3 *wi)
+PLM_VECTOR_CLONES static int factored_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2,
+                                             double angles[3], vec3 *wi)
 {
     const plm_fiber_medulla_table *m = q->table;
     int P = m->res.points, bands = m->res.theta_bins;
