@@ -26,6 +26,7 @@
  * interval into one weight per point; eval is sum_t L(t) E(t)(wi). */
 #include "render/fiber_medulla_table.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -791,6 +792,12 @@ static void interval_rows(const plm_fiber_medulla_table *m, const plm_fiber_view
         rows->coef[r] *= scale;
 }
 
+/* The sum of eight partial sums, in a fixed order. */
+static PLM_VECTOR_INLINE double sum8(const float s[8])
+{
+    return (double)(((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])));
+}
+
 /* The sum over k < n of a[k] b[k] (n a multiple of 8), in eight partial
  * sums that the compiler keeps in vector registers. */
 static PLM_VECTOR_INLINE double dot(const float *a, const float *b, int n)
@@ -799,19 +806,26 @@ static PLM_VECTOR_INLINE double dot(const float *a, const float *b, int n)
     for (int k = 0; k < n; k += 8)
         for (int i = 0; i < 8; ++i)
             s[i] += a[k + i] * b[k + i];
-    return (double)(((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])));
+    return sum8(s);
 }
 
-/* The sum over k < n of a[k] times c[0] b[0][k] + ... + c[3] b[3][k] (n a
- * multiple of 8), in eight partial sums as dot(). */
-static PLM_VECTOR_INLINE double dot_mix(const float *a, const float *const b[4], const float c[4], int n)
+/* Per channel ch < 3, into v[ch], the sum over k < n of w[ch][k] times
+ * c[0] b[0][ch n + k] + ... + c[3] b[3][ch n + k] (n a multiple of 8; b[i]
+ * RGB, each over the n points), in eight partial sums per channel as dot(),
+ * the three channels in one pass. */
+static PLM_VECTOR_INLINE void dot_mix(const float (*w)[PLM_FIBER_MEDULLA_POINTS], const float *const b[4],
+                                      const float c[4], int n, double v[3])
 {
     const float *b0 = b[0], *b1 = b[1], *b2 = b[2], *b3 = b[3];
-    float c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], s[8] = {0.0f};
+    float c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], s[3][8] = {{0.0f}};
     for (int k = 0; k < n; k += 8)
-        for (int i = 0; i < 8; ++i)
-            s[i] += a[k + i] * (c0 * b0[k + i] + c1 * b1[k + i] + c2 * b2[k + i] + c3 * b3[k + i]);
-    return (double)(((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])));
+        for (int ch = 0; ch < 3; ++ch)
+            for (int i = 0; i < 8; ++i) {
+                size_t o = (size_t)ch * (size_t)n + (size_t)(k + i);
+                s[ch][i] += w[ch][k + i] * (c0 * b0[o] + c1 * b1[o] + c2 * b2[o] + c3 * b3[o]);
+            }
+    for (int ch = 0; ch < 3; ++ch)
+        v[ch] = sum8(s[ch]);
 }
 
 /* Adds the light of the four nodes' h samples over [x0, x1] (in samples
@@ -944,16 +958,23 @@ static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_vie
 }
 
 /* The query's wbar from its weights w, and from those and the points'
- * emitted energy (RGB and mean, each over the P points) the part's energy
- * and the sampler's norm. */
+ * emitted energy (RGB and mean, each over the P points, a multiple of 8)
+ * the part's energy and the sampler's norm, the four sums in one pass. */
 PLM_VECTOR_CLONES static void point_sums(plm_fiber_medulla_query *q, const float *energy, int P)
 {
     for (int k = 0; k < P; ++k) {
         float mean = (q->w[0][k] + q->w[1][k] + q->w[2][k]) * (1.0f / 3.0f);
         q->wbar[k] = mean > 0.0f ? mean : 0.0f;
     }
-    double sum = dot(q->w[0], energy, P) + dot(q->w[1], energy + P, P) + dot(q->w[2], energy + 2 * P, P);
-    q->norm = dot(q->wbar, energy + 3 * P, P);
+    float s[4][8] = {{0.0f}}; /* per channel (RGB, wbar) eight partial sums, as dot() */
+    for (int k = 0; k < P; k += 8)
+        for (int i = 0; i < 8; ++i) {
+            for (int ch = 0; ch < 3; ++ch)
+                s[ch][i] += q->w[ch][k + i] * energy[ch * P + k + i];
+            s[3][i] += q->wbar[k + i] * energy[3 * P + k + i];
+        }
+    double sum = sum8(s[0]) + sum8(s[1]) + sum8(s[2]);
+    q->norm = sum8(s[3]);
     q->sum = q->norm > 0.0 ? plm_positive(sum) : 0.0; /* nothing to sample: nothing to see */
     q->total = q->sum / 3.0;
 }
@@ -1064,14 +1085,11 @@ PLM_VECTOR_CLONES static double factored_lookup(const plm_fiber_medulla_query *q
     const plm_fiber_medulla_table *m = q->table;
     int P = m->res.points;
     if (f) {
-        const float *e[4] = {emission_bin(m, a0, c0), emission_bin(m, a0, c1), emission_bin(m, a0 + 1, c0),
-                             emission_bin(m, a0 + 1, c1)};
+        const float *const e[4] = {emission_bin(m, a0, c0), emission_bin(m, a0, c1), emission_bin(m, a0 + 1, c0),
+                                   emission_bin(m, a0 + 1, c1)};
         double v[3];
-        for (int ch = 0; ch < 3; ++ch) {
-            const float *const b[4] = {e[0] + ch * P, e[1] + ch * P, e[2] + ch * P, e[3] + ch * P};
-            v[ch] = plm_positive(dot_mix(q->w[ch], b, c, P));
-        }
-        *f = rgb_make(v[0], v[1], v[2]);
+        dot_mix(q->w, e, c, P, v);
+        *f = rgb_make(plm_positive(v[0]), plm_positive(v[1]), plm_positive(v[2]));
     }
     return pdf ? dot(q->wbar, emission_bin(m, in_a, in_c) + 3 * P, P) : 0.0;
 }
@@ -1139,32 +1157,51 @@ void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double ang
         *pdf = plm_positive(mass) / (norm * area * ct);
 }
 
-/* A column of the row that sampling searches: the rotationally symmetric
- * layout's sum over one node's terms (band a), or a factored point's
- * cumulative row. */
+/* The row that sampling searches: a factored point's cumulative row, or
+ * (row NULL) the rotationally symmetric layout's sums over one node's terms
+ * (band a). */
 typedef struct sampled_row {
     const plm_fiber_medulla_query *q;
     int k0, k1, a;
     const float *row;
 } sampled_row;
 
-static double row_column(const sampled_row *r, int col)
+/* The last of x[0..n-1] (not decreasing, x[0] <= t) at most t: the count of
+ * those at most t, all compared at once, so that their loads overlap
+ * (probes of a search each wait for the one before). Compared as floats
+ * with the largest float at most t, which is exact. */
+static PLM_VECTOR_INLINE int last_at_most(const float *x, int n, double t)
 {
-    return r->row ? r->row[col] : sum_at(r->q, r->k0, r->k1, column_offset(r->q, r->a, col));
+    float g = (float)t;
+    if ((double)g > t) { /* rounded up: the float below (t >= x[0] >= 0, so g > 0) */
+        uint32_t bits;
+        memcpy(&bits, &g, sizeof bits);
+        --bits;
+        memcpy(&g, &bits, sizeof g);
+    }
+    int count = 0;
+    for (int i = 0; i < n; ++i)
+        count += x[i] <= g;
+    return count - 1;
 }
 
 /* wi in band a (the sign of theta_i and the place in the band by u1) and
- * in the bin where the cumulative row reaches u2 times its end `mass` (its
- * first probes by plm_fiber_search_probe, then bisection), uniform within
- * the bin. */
-static int direction_in_band(const sampled_row *r, double mass, double u1, double u2, double angles[3], vec3 *wi)
+ * in the bin where the cumulative row reaches u2 times its end `mass`
+ * (a factored row's columns all compared at once; the sums' first probes
+ * by plm_fiber_search_probe, then bisection), uniform within the bin. */
+static PLM_VECTOR_INLINE int direction_in_band(const sampled_row *r, double mass, double u1, double u2,
+                                               double angles[3], vec3 *wi)
 {
     const plm_fiber_medulla_query *q = r->q;
     double goal = u2 * mass, x0 = 0.0, x1 = mass;
     int lo = 0, hi = q->table->res.phi_bins; /* column lo <= goal < column hi */
+    if (r->row) {
+        lo = last_at_most(r->row, hi, goal), hi = lo + 1;
+        x0 = r->row[lo], x1 = r->row[hi];
+    }
     for (int probe = 0; hi - lo > 1; ++probe) {
         int mid = plm_fiber_search_probe(probe, lo, hi, x0, x1, goal);
-        double x = row_column(r, mid);
+        double x = sum_at(q, r->k0, r->k1, column_offset(q, r->a, mid));
         if (x <= goal)
             lo = mid, x0 = x;
         else
@@ -1226,10 +1263,7 @@ PLM_VECTOR_CLONES static int factored_sample(const plm_fiber_medulla_query *q, d
     double target = u0 * q->norm;
     int k = pick_point(q, point_energy(m) + 3 * P, P, &target);
     const float *band = point_sampling(m, k);
-    double t = plm_clamp(target / q->wbar[k], 0.0, band[bands]);
-    int a = 0;
-    while (a < bands - 1 && !(t < band[a + 1]))
-        ++a;
+    int a = last_at_most(band, bands, plm_clamp(target / q->wbar[k], 0.0, band[bands]));
     sampled_row r = {q, 0, 0, a, band + bands + 1 + (size_t)a * (m->res.phi_bins + 1)};
     double mass = r.row[m->res.phi_bins];
     return mass > 0.0 && direction_in_band(&r, mass, u1, u2, angles, wi);
