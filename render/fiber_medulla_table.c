@@ -837,7 +837,8 @@ static PLM_VECTOR_INLINE void dot_mix(const float (*w)[PLM_FIBER_MEDULLA_POINTS]
  * vector operation per point with no scattered channels; the position it
  * carries in its first float lands in the first, which is never read, and
  * a path that missed the medulla (no light) adds zeros, so no test. */
-static void add_samples(float (*acc)[4], const float *const rec[4], const float k[4], double x0, double x1)
+static PLM_VECTOR_INLINE void add_samples(float (*acc)[4], const float *const rec[4], const float k[4], double x0,
+                                           double x1)
 {
     int first = (int)x0, last = (int)ceil(x1) - 1;
     for (int i = first; i <= last; ++i) {
@@ -861,8 +862,8 @@ static void add_samples(float (*acc)[4], const float *const rec[4], const float 
 
 /* w_r, w_g, w_b += acc's last three floats per point (of n; the arrays do
  * not overlap, so the loop vectorizes, four points a pass). */
-static void add_channels(float *restrict w_r, float *restrict w_g, float *restrict w_b, const float (*restrict acc)[4],
-                         int n)
+static PLM_VECTOR_INLINE void add_channels(float *restrict w_r, float *restrict w_g, float *restrict w_b,
+                                            const float (*restrict acc)[4], int n)
 {
     for (int t = 0; t < n; ++t) {
         w_r[t] += acc[t][1];
@@ -908,16 +909,38 @@ PLM_VECTOR_CLONES static void set_rows(plm_fiber_medulla_query *q, const float *
 #define PREFETCH(p) ((void)(p))
 #endif
 
+/* Adds to q->w the light of the four nodes' h samples (records rec[c])
+ * over each range x[e] (an interval end and its cell bound; none if
+ * empty), times wn[c] scale sign[e]: summed point by point, then added to
+ * the channels. */
+PLM_VECTOR_CLONES static void end_samples(plm_fiber_medulla_query *q, int P, const float *const rec[4],
+                                          const double wn[4], double scale, const double x[2][2],
+                                          const float sign[2])
+{
+    float acc[PLM_FIBER_MEDULLA_POINTS + 2][4]; /* point-major: add_samples */
+    memset(acc, 0, sizeof(float) * 4 * (size_t)(P + 2));
+    for (int e = 0; e < 2; ++e) {
+        const float k[4] = {(float)(wn[0] * scale) * sign[e], (float)(wn[1] * scale) * sign[e],
+                            (float)(wn[2] * scale) * sign[e], (float)(wn[3] * scale) * sign[e]};
+        if (x[e][1] > x[e][0])
+            add_samples(acc, rec, k, x[e][0], x[e][1]);
+    }
+    for (int j = 0; j < 2; ++j) /* points P and P + 1 are 0 and 1 */
+        for (int ch = 1; ch < 4; ++ch)
+            acc[j][ch] += acc[P + j][ch];
+    add_channels(q->w[0], q->w[1], q->w[2], (const float(*)[4])acc, P);
+}
+
 /* The light reaching each point (q->w), its mean over the view's interval
  * blended over the nodes with weights wn. With F(x) the light of the h
  * samples up to x (in samples from h = -1), the mean is F(x1) - F(x0) over
  * the width: F at the cell bound nearest each end from the cumulative
  * rows, and the h samples between the bound and the end added or
  * subtracted (at most half a cell's), all four nodes' in one pass over the
- * samples, summed point by point and then added to the channels. At a point
- * interval, the density of the sample holding h. The samples' records
- * are fetched into the cache before the rows are summed: a random partial
- * interval's are rarely there, and their misses then overlap the rows'. */
+ * samples. At a point interval, the density of the sample holding h. The
+ * samples' records are fetched into the cache before the rows are summed:
+ * a random partial interval's are rarely there, and their misses then
+ * overlap the rows'. */
 static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_view *v, const int nodes[4],
                            const double wn[4], plm_fiber_medulla_query *q)
 {
@@ -932,17 +955,15 @@ static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_vie
     float sign[2] = {x0 < lo * S ? 1.0f : -1.0f, x1 > hi * S ? 1.0f : -1.0f};
     if (point)
         x[0][0] = i, x[0][1] = i + 1.0, x[1][0] = x[1][1] = 0.0, sign[0] = 1.0f;
-    int has[2] = {x[0][1] > x[0][0], x[1][1] > x[1][0]}, samples = has[0] || has[1];
-    /* Each end's first and last records (a range spans at most three cache lines; past its last
-     * one by one record where it ends on a sample's edge, which prefetching allows). */
-    size_t ends[2][2] = {{4 * (size_t)x[0][0], 4 * (size_t)x[0][1]}, {4 * (size_t)x[1][0], 4 * (size_t)x[1][1]}};
+    int samples = x[0][1] > x[0][0] || x[1][1] > x[1][0];
     const float *rec[4];
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; samples && c < 4; ++c) {
         rec[c] = node_light(m, nodes[c]) + (size_t)(m->res.h_cells + 1) * light_row(m);
-        for (int e = 0; samples && e < 2; ++e)
-            if (has[e]) {
-                PREFETCH(rec[c] + ends[e][0]);
-                PREFETCH(rec[c] + ends[e][1]);
+        for (int e = 0; e < 2; ++e)
+            if (x[e][1] > x[e][0]) { /* a range's first and last records: it spans at most three cache
+                                      * lines (past its last by one where it ends on a sample's edge) */
+                PREFETCH(rec[c] + 4 * (size_t)x[e][0]);
+                PREFETCH(rec[c] + 4 * (size_t)x[e][1]);
             }
     }
     const float *row[8];
@@ -961,20 +982,8 @@ static void factored_light(const plm_fiber_medulla_table *m, const plm_fiber_vie
     else
         for (int ch = 0; ch < 3; ++ch)
             memset(q->w[ch], 0, sizeof(float) * (size_t)P);
-    if (!samples)
-        return;
-    float acc[PLM_FIBER_MEDULLA_POINTS + 2][4]; /* point-major: add_samples */
-    memset(acc, 0, sizeof(float) * 4 * (size_t)(P + 2));
-    for (int e = 0; e < 2; ++e) {
-        const float k[4] = {(float)(wn[0] * scale) * sign[e], (float)(wn[1] * scale) * sign[e],
-                            (float)(wn[2] * scale) * sign[e], (float)(wn[3] * scale) * sign[e]};
-        if (x[e][1] > x[e][0])
-            add_samples(acc, rec, k, x[e][0], x[e][1]);
-    }
-    for (int j = 0; j < 2; ++j) /* points P and P + 1 are 0 and 1 */
-        for (int ch = 1; ch < 4; ++ch)
-            acc[j][ch] += acc[P + j][ch];
-    add_channels(q->w[0], q->w[1], q->w[2], (const float(*)[4])acc, P);
+    if (samples)
+        end_samples(q, P, rec, wn, scale, (const double(*)[2])x, sign);
 }
 
 /* The query's wbar from its weights w, and from those and the points'
