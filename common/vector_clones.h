@@ -9,7 +9,9 @@
  * clone to another function pays a call and runs that function's default
  * code (GCC will not inline across targets), unless the callee is declared
  * PLM_VECTOR_INLINE: then it is inlined into each clone and compiled for
- * it. Elsewhere (another architecture or C library) both are plain C. */
+ * it. Elsewhere (another architecture or C library) both are plain C.
+ * clang (14) gives a clone set's resolver an external name even for a
+ * static function, so cloned functions need names unique in the program. */
 #include <limits.h> /* through the C library's headers: __GLIBC__ */
 
 #if defined(__x86_64__) && defined(__GLIBC__) && (defined(__GNUC__) || defined(__clang__))
