@@ -1195,10 +1195,10 @@ typedef struct sampled_row {
     const float *row;
 } sampled_row;
 
-/* The last of x[0..n-1] (not decreasing, x[0] <= t) at most t: the count of
- * those at most t, all compared at once, so that their loads overlap
- * (probes of a search each wait for the one before). Compared as floats
- * with the largest float at most t, which is exact. */
+/* The last of x[0..n-1] (not decreasing, x[0] <= t) at most t, or 0 if none
+ * is (t NaN): the count of those at most t, all compared at once, so that
+ * their loads overlap (probes of a search each wait for the one before).
+ * Compared as floats with the largest float at most t, which is exact. */
 static PLM_VECTOR_INLINE int last_at_most(const float *x, int n, double t)
 {
     float g = (float)t;
@@ -1211,7 +1211,7 @@ static PLM_VECTOR_INLINE int last_at_most(const float *x, int n, double t)
     int count = 0;
     for (int i = 0; i < n; ++i)
         count += x[i] <= g;
-    return count - 1;
+    return count > 0 ? count - 1 : 0;
 }
 
 /* wi in band a (the sign of theta_i and the place in the band by u1) and
