@@ -25,6 +25,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/vector_clones.h"
+
 #define HALF_PI (0.5 * PLM_PI)
 
 /* ---- layout -------------------------------------------------------------- */
@@ -566,7 +568,7 @@ void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double ph
 }
 
 /* The interval's mean at column col: channel 0 (mean of RGB) ... */
-static double column_mean(const plm_fiber_table_query *q, int col)
+static PLM_VECTOR_INLINE double column_mean(const plm_fiber_table_query *q, int col)
 {
     double m = 0.0;
     for (int k = 0; k < q->terms; ++k)
@@ -576,7 +578,7 @@ static double column_mean(const plm_fiber_table_query *q, int col)
 
 /* ... and the masses of count (1 to 3) adjacent bins from bin b on, in all
  * three channels, as (mean, R, G): count + 1 columns, read once per term. */
-static void bin_masses(const plm_fiber_table_query *q, int b, int count, double mass[][3])
+static PLM_VECTOR_INLINE void bin_masses(const plm_fiber_table_query *q, int b, int count, double mass[][3])
 {
     double col[4][3] = {{0.0}};
     for (int k = 0; k < q->terms; ++k) {
@@ -885,7 +887,7 @@ static void moving_density(const plm_fiber_table_query *q, double x, double d[4]
  * curvature, which linear interpolation between bin centres flattens at a
  * peak and lifts on a flank (docs/fiber.md); the pdf reads wi's bin, which
  * eval reads anyway. */
-static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta, double ct, rgb *f,
+PLM_VECTOR_CLONES static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta, double ct, rgb *f,
                                 double *pdf)
 {
     const plm_fiber_table *t = q->table;
@@ -938,7 +940,7 @@ static double moving_place(double a0, double a1, double u)
  * within the bin; in a moving lobe the place along its piece, then u2 the
  * offset from G_N) and theta_i from G_M (u1): the angles into theta, delta
  * (in the table's orientation) and the direction into wi. */
-static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2, double *theta,
+PLM_VECTOR_CLONES static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2, double *theta,
                         double *delta, vec3 *wi)
 {
     if (!(q->total > 0.0))
