@@ -887,8 +887,8 @@ static void moving_density(const plm_fiber_table_query *q, double x, double d[4]
  * curvature, which linear interpolation between bin centres flattens at a
  * peak and lifts on a flank (docs/fiber.md); the pdf reads wi's bin, which
  * eval reads anyway. */
-PLM_VECTOR_CLONES static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta, double ct, rgb *f,
-                                double *pdf)
+PLM_VECTOR_CLONES static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta,
+                                                  double ct, rgb *f, double *pdf)
 {
     const plm_fiber_table *t = q->table;
     double gm = plm_fiber_gm(t->params.beta_m, q->gm.scale, theta + q->theta_o);
@@ -940,8 +940,8 @@ static double moving_place(double a0, double a1, double u)
  * within the bin; in a moving lobe the place along its piece, then u2 the
  * offset from G_N) and theta_i from G_M (u1): the angles into theta, delta
  * (in the table's orientation) and the direction into wi. */
-PLM_VECTOR_CLONES static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2, double *theta,
-                        double *delta, vec3 *wi)
+PLM_VECTOR_CLONES static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2,
+                                          double *theta, double *delta, vec3 *wi)
 {
     if (!(q->total > 0.0))
         return 0;
