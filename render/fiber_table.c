@@ -498,7 +498,7 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 /* ---- queries ------------------------------------------------------------- */
 
 /* plm_wrap_pi for |a| < 3 pi, without floor (a library call on plain x86-64). */
-static double wrap_near(double a)
+static PLM_VECTOR_INLINE double wrap_near(double a)
 {
     a = a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
     return a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
@@ -808,7 +808,7 @@ static int table_angles(const plm_fiber_table_query *q, vec3 wi, double *theta, 
 
 /* Phi(u0) - Phi(u1) for the standard normal's CDF Phi, from erfc where
  * both are in one tail (erf would lose the digits). */
-static double normal_mass(double u0, double u1)
+static PLM_VECTOR_INLINE double normal_mass(double u0, double u1)
 {
     const double r = 0.70710678118654752440;
     if (u0 > 0.0 && u1 > 0.0)
@@ -833,8 +833,8 @@ static double normal_mass(double u0, double u1)
  * s = 0, 1 clipped to the cut, all over the cut Gaussian's mass. A lobe
  * that barely moves (slope below 1e-4 beta_n) takes G at its midpoint, off
  * by a relative 1e-9. */
-static void moving_lobe_density(const plm_fiber_table_moving_lobe *m, double dx, double beta, double norm,
-                                double d[3])
+static PLM_VECTOR_INLINE void moving_lobe_density(const plm_fiber_table_moving_lobe *m, double dx, double beta,
+                                                   double norm, double d[3])
 {
     const double inv_sqrt_2pi = 0.39894228040143267794;
     double slope = m->slope, j0, j1;
@@ -858,7 +858,7 @@ static void moving_lobe_density(const plm_fiber_table_moving_lobe *m, double dx,
  * [0, 1] of (a0 + (a1 - a0) s) G_N(x - delta0 - slope s), G_N cut. Only the
  * images of x within the cut of a lobe's path count (one, unless the path
  * and the cut reach around the circle). */
-static void moving_density(const plm_fiber_table_query *q, double x, double d[4])
+static PLM_VECTOR_INLINE void moving_density(const plm_fiber_table_query *q, double x, double d[4])
 {
     double beta = q->table->params.beta_n, cut = MOVING_CUT * beta, norm = 1.0 / (1.0 - 2.0 * MOVING_TAIL);
     d[0] = d[1] = d[2] = 0.0;
