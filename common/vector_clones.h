@@ -11,10 +11,12 @@
  * PLM_VECTOR_INLINE: then it is inlined into each clone and compiled for
  * it. Elsewhere (another architecture or C library) both are plain C.
  * clang (14) gives a clone set's resolver an external name even for a
- * static function, so cloned functions need names unique in the program. */
+ * static function, so cloned functions need names unique in the program.
+ * PLM_NO_VECTOR_CLONES (the sanitizer build defines it) keeps the default
+ * code alone, so that the code CPUs without AVX2 run is tested as well. */
 #include <limits.h> /* through the C library's headers: __GLIBC__ */
 
-#if defined(__x86_64__) && defined(__GLIBC__) && (defined(__GNUC__) || defined(__clang__))
+#if !defined(PLM_NO_VECTOR_CLONES) && defined(__x86_64__) && defined(__GLIBC__) && (defined(__GNUC__) || defined(__clang__))
 #define PLM_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #define PLM_VECTOR_INLINE inline __attribute__((always_inline))
 #else
