@@ -128,7 +128,11 @@ static void draw_queries(fiber_bench *b, int v, int partial)
 int bench_fiber(int argc, char **argv)
 {
     static const char *const intervals[] = {"whole", "partial", "both", NULL};
-    int runs = 7, calls = 200000, lobes = 5, cached = 0, interval = 2;
+    static const char *const fibers[] = {"circular", "elliptical", "concentric_medulla", "offcentre_medulla",
+                                         "default_barb", "all", NULL};
+    static const char *const estimators[] = {"stochastic", "tabulated", "both", NULL};
+    int runs = 7, calls = 200000, lobes = 5, cached = 0, interval = 2, only = PLM_FIBER_FIGURE7_VARIANTS + 1,
+        estimator = 2;
     plm_option opts[] = {
         {"--runs", PLM_OPT_INT, &runs, 0, 1, 64, NULL, "N", "timed runs; the median is reported (default 7)", 0},
         {"--calls", PLM_OPT_INT, &calls, 0, 1000, 100000000, NULL, "N", "calls per timed run (default 200000)", 0},
@@ -137,6 +141,12 @@ int bench_fiber(int argc, char **argv)
          "h-intervals: [-1, 1], two uniform ends in [-1, 1] (as masking leaves a renderer), or each in turn "
          "(default both)",
          0},
+        {"--fiber", PLM_OPT_CHOICE, &only, 0, 0, 0, fibers, "NAME",
+         "one fiber's rows only (circular, elliptical, concentric_medulla, offcentre_medulla, default_barb; "
+         "default all)",
+         0},
+        {"--bcsdf", PLM_OPT_CHOICE, &estimator, 0, 0, 0, estimators, "stochastic|tabulated|both",
+         "the estimators timed (default both)", 0},
         {"--cached", PLM_OPT_FLAG, &cached, 0, 0, 0, NULL, NULL,
          "take the tables from the disk cache (no build time; for instruction counts under callgrind)", 0},
     };
@@ -156,6 +166,8 @@ int bench_fiber(int argc, char **argv)
     printf("fiber,bcsdf,interval,lobes,prepare_eval_ns,prepare_sample_ns,prepare_ns,eval_ns,sample_ns,build_s,"
            "table_mib\n");
     for (int v = 0; v <= PLM_FIBER_FIGURE7_VARIANTS; ++v) { /* the last: the default barb */
+        if (only <= PLM_FIBER_FIGURE7_VARIANTS && v != only)
+            continue;
         const char *name = "default_barb";
         if (v < PLM_FIBER_FIGURE7_VARIANTS) {
             plm_fiber_params_figure7(&b.params, v);
@@ -175,7 +187,7 @@ int bench_fiber(int argc, char **argv)
             fprintf(stderr, "error: %s\n", err.message);
             return 1;
         }
-        for (int tabulated = 0; tabulated < 2; ++tabulated)
+        for (int tabulated = estimator == 1; tabulated <= (estimator != 0); ++tabulated)
             for (int partial = interval == 1; partial <= (interval != 0); ++partial) {
                 b.table = tabulated ? table : NULL;
                 draw_queries(&b, v, partial);
