@@ -173,7 +173,10 @@ int plm_fiber_sample(const plm_fiber_params *p, const plm_fiber_lobe_set *set, d
 /* Fiber-frame direction from (theta, phi), radians. */
 static inline vec3 plm_fiber_direction(double theta, double phi)
 {
-    return v3(cos(theta) * cos(phi), cos(theta) * sin(phi), sin(theta));
+    double st, ct, sp, cp;
+    plm_sincos(theta, &st, &ct);
+    plm_sincos(phi, &sp, &cp);
+    return v3(ct * cp, ct * sp, st);
 }
 
 #endif

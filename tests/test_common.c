@@ -21,6 +21,39 @@
 #include "common/rng.h"
 #include "render/sampling.h"
 
+/* The distance from y to the next double away from zero. */
+static double ulp(double y) { return nextafter(fabs(y), INFINITY) - fabs(y); }
+
+/* plm_sincos against the C library's sin and cos: within 2 ulp at random
+ * angles over several turns, on both sides of the quadrants' edges, near
+ * 0 and where it hands over to the library; exact at 0. */
+static void sincos_matches_the_library(void **state)
+{
+    (void)state;
+    plm_rng rng;
+    plm_rng_seed(&rng, 11, 0);
+    double s, c, worst = 0.0;
+    plm_sincos(0.0, &s, &c);
+    assert_true(s == 0.0 && c == 1.0);
+    for (int i = 0; i < 400000; ++i) {
+        double x;
+        if (i < 100000)
+            x = 40.0 * plm_rng_uniform(&rng) - 20.0;
+        else if (i < 200000) /* next to a multiple of pi/4, where the quadrant or the remainder's sign turns */
+            x = (double)((i % 160) - 80) * (PLM_PI / 4.0) * (1.0 + 1e-12 * (plm_rng_uniform(&rng) - 0.5));
+        else if (i < 300000) /* small: the polynomials' leading terms */
+            x = ldexp(plm_rng_uniform(&rng) - 0.5, -(i % 60));
+        else /* large, up to where the library takes over and past it */
+            x = ldexp(1.0 + plm_rng_uniform(&rng), 10 + i % 10) * (i % 2 ? 1.0 : -1.0);
+        plm_sincos(x, &s, &c);
+        double es = fabs(s - sin(x)) / ulp(sin(x)), ec = fabs(c - cos(x)) / ulp(cos(x));
+        worst = fmax(worst, fmax(es, ec));
+        if (es > 2.0 || ec > 2.0)
+            fail_msg("sincos(%.17g): %.17g %.17g, library %.17g %.17g", x, s, c, sin(x), cos(x));
+    }
+    print_message("sincos: worst %.2f ulp\n", worst);
+}
+
 static void rng_is_reproducible_and_uniform(void **state)
 {
     (void)state;
@@ -424,6 +457,7 @@ static void memory_figures_follow_what_is_touched(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(sincos_matches_the_library),
         cmocka_unit_test(rng_is_reproducible_and_uniform),
         cmocka_unit_test(distribution_finds_the_last_entry_at_most_u),
         cmocka_unit_test(distribution_matches_weights),
