@@ -26,37 +26,75 @@ static double polynomial(const double *c, int n, double t)
     return p;
 }
 
-/* A first guess at erfinv(y), relative error below 3.2e-8: with
- * w = -log(1 - y^2), erfinv(y) / y as a polynomial in t = w - 2.5 for w < 5
- * (|y| < 0.9966; degree 9) and in t = sqrt(w) - 4.125 beyond, up to w = 36
- * (|y| = 1 - DBL_EPSILON; degree 12). Each interpolates erfinv(y) / y at the
- * Chebyshev nodes of its t interval (coefficients computed for plumage at 50
- * digits, then rounded to doubles). */
-static double erfinv_guess(double y)
+/* c[0] + c[1] t + ... + c[n - 1] t^(n - 1) (n <= 32) by Estrin's scheme:
+ * pairs c[i] + c[i + 1] t, then pairs of those with t^2, with t^4, ...: the
+ * additions of a level do not wait on each other, so the chain is log2(n)
+ * steps long instead of Horner's n. */
+static double polynomial_estrin(const double *c, int n, double t)
 {
-    static const double centre[10] = {1.501409360450329,       0.24664027905463662,    -0.004177392875203149,
-                                      -0.001252726391773229,   0.00021834938623976644, -4.9724196894547514e-06,
-                                      -3.4639852676333717e-06, 4.6813134805534123e-07, 2.3335967195708108e-08,
-                                      -8.931925970244222e-09};
+    double v[16];
+    int m = 0;
+    for (int i = 0; i < n; i += 2)
+        v[m++] = i + 1 < n ? c[i] + c[i + 1] * t : c[i];
+    for (double p = t * t; m > 1; p *= p) {
+        int k = 0;
+        for (int i = 0; i < m; i += 2)
+            v[k++] = i + 1 < m ? v[i] + v[i + 1] * p : v[i];
+        m = k;
+    }
+    return v[0];
+}
+
+/* erfinv(y) / y for w = -log(1 - y^2) < 5 (|y| < 0.9966, where G_M's and
+ * G_N's samplers land but for 0.34% of u), as a polynomial of degree 22 in
+ * s = (w - 2.5) / 2.5: the Chebyshev interpolant on [-1, 1], off by less
+ * than 2e-18 (computed for plumage at 60 digits, then rounded to doubles).
+ * Its two leading terms by Horner's rule, which keeps their rounding small,
+ * the rest by Estrin's scheme. erfinv(y) is then within 3 ulp (the
+ * rounding of w, of the sum and of the product by y). */
+static double erfinv_centre(double s)
+{
+    static const double c[23] = {
+        1.501409351110792, 0.6166006918604175, -0.02610823577739765, -0.019573561059547377, 0.008525400950939892,
+        -0.0004878983983252155, -0.0008341356436926482, 0.0002921906851342163, 2.0472417839420812e-05,
+        -4.1432071450377935e-05, 8.652721877484876e-06, 2.851652817060834e-06, -1.853870554105327e-06,
+        1.3583392473566449e-07, 1.9953933232996815e-07, -7.08985061397636e-08, -6.70810932648382e-09,
+        1.1040417909061025e-08, -1.9880707100189075e-09, -9.760204713196851e-10, 4.4650677608736676e-10,
+        3.867417238765463e-11, -3.9169363297916484e-11};
+    return c[0] + s * (c[1] + s * polynomial_estrin(c + 2, 21, s));
+}
+
+/* A first guess at erfinv(y) where w = -log(1 - y^2) >= 5 (|y| from 0.9966
+ * to 1 - DBL_EPSILON, w up to 36), relative error below 3.2e-8:
+ * erfinv(y) / y as a polynomial of degree 12 in t = sqrt(w) - 4.125, which
+ * interpolates it at the Chebyshev nodes of its t interval (coefficients
+ * computed for plumage at 50 digits, then rounded to doubles). */
+static double erfinv_tail_guess(double y, double w)
+{
     static const double tail[13] = {3.9659885118570983,     1.0097691324581133,     0.0009621238629170097,
                                     -0.0007192407034188612, 0.0002574516084964363,  -9.835366838846713e-05,
                                     3.605000759870352e-05,  -4.739202267111365e-06, 8.495969002055456e-06,
                                     -1.222834500151884e-05, 3.560271971162274e-06,  9.712200729772167e-07,
                                     -4.249644392272747e-07};
-    double w = -log((1.0 - y) * (1.0 + y));
-    if (w < 5.0)
-        return y * polynomial(centre, 10, w - 2.5);
     return y * polynomial(tail, 13, sqrt(w) - 4.125);
 }
 
-/* Inverse error function: the guess polished by one Halley step on erf, or
- * on erfc near +-1 where 1 - |y| is exact (cubic convergence: from 3.2e-8
- * to below rounding, within 2 ulp of erfinv and 0.4 ulp rms over [-1 +
- * DBL_EPSILON, 1 - DBL_EPSILON]). With f = erf(x) - y, f' = 2/sqrt(pi)
- * e^(-x^2) and f'' = -2x f', Halley's step is f / (f' + x f). */
-static double erfinv(double y)
+/* Inverse error function. Where w = -log(1 - y^2) < 5 the polynomial of
+ * erfinv_centre, within 3 ulp; in the tails, and everywhere if polish is
+ * set, a guess polished by one Halley step on erf, or on erfc near +-1
+ * where 1 - |y| is exact (cubic convergence: from 3.2e-8 to below rounding;
+ * within 2 ulp of erfinv over [-1 + DBL_EPSILON, 1 - DBL_EPSILON],
+ * test_fiber_bcsdf). The step's erf and exp cost G_M's sampler, which
+ * rounds theta to a few ulp anyway, as much as the rest of it, so it goes
+ * without in the centre (docs/fiber.md). With f = erf(x) - y,
+ * f' = 2/sqrt(pi) e^(-x^2) and f'' = -2x f', Halley's step is
+ * f / (f' + x f). */
+static double erfinv(double y, int polish)
 {
-    double x = erfinv_guess(y);
+    double w = -log((1.0 - y) * (1.0 + y));
+    double x = w < 5.0 ? y * erfinv_centre((w - 2.5) * 0.4) : erfinv_tail_guess(y, w);
+    if (w < 5.0 && !polish)
+        return x;
     const double two_over_sqrt_pi = 1.12837916709551257390;
     double slope = two_over_sqrt_pi * exp(-x * x);
     if (!(slope > 0.0))
@@ -159,10 +197,10 @@ double plm_fiber_gm(double beta_m, double scale, double dtheta)
 double plm_fiber_sample_gm(const plm_fiber_gm_detector *g, double u)
 {
     double y = plm_clamp(g->erf_lo + u * (g->erf_hi - g->erf_lo), -1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON);
-    return plm_clamp(g->theta + g->s * erfinv(y), -HALF_PI, HALF_PI);
+    return plm_clamp(g->theta + g->s * erfinv(y, 0), -HALF_PI, HALF_PI);
 }
 
-double plm_fiber_normal_quantile(double u) { return SQRT2 * erfinv(to_open_symmetric(u)); }
+double plm_fiber_normal_quantile(double u) { return SQRT2 * erfinv(to_open_symmetric(u), 1); }
 
 /* sum_k A_k G_M G_N and sum_k mean(A_k) G_M G_N at (theta, phi). */
 static void detector_sums_at(const plm_fiber_params *p, const plm_fiber_lobe_set *set, double theta, double phi,
