@@ -1108,7 +1108,7 @@ static const float *emission_bin(const plm_fiber_medulla_table *m, int a, int c)
  * by the light reaching the points; returns the sampler's mass in the bin
  * (in_a, in_c), the points' mean emission weighted by wbar, if pdf is not
  * NULL (else 0). */
-PLM_VECTOR_CLONES static double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, int c1, int in_a,
+static PLM_VECTOR_INLINE double factored_lookup(const plm_fiber_medulla_query *q, int a0, int c0, int c1, int in_a,
                                                 int in_c, const float c[4], rgb *f, const double *pdf)
 {
     const plm_fiber_medulla_table *m = q->table;
@@ -1123,7 +1123,12 @@ PLM_VECTOR_CLONES static double factored_lookup(const plm_fiber_medulla_query *q
     return pdf ? dot(q->wbar, emission_bin(m, in_a, in_c) + 3 * P, P) : 0.0;
 }
 
-void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f, double *pdf)
+/* Cloned whole, the factored kernels inlined (as is the sampler below):
+ * with the kernels alone cloned, the arithmetic that finds the bins ran as
+ * the default target's code and each call went through the clones'
+ * resolver (docs/fiber.md: eval about 20 ns slower). */
+PLM_VECTOR_CLONES void plm_fiber_medulla_lookup(const plm_fiber_medulla_query *q, const double angles[3], rgb *f,
+                                                double *pdf)
 {
     if (f)
         *f = rgb_gray(0.0);
@@ -1284,7 +1289,7 @@ static PLM_VECTOR_INLINE int pick_point(const plm_fiber_medulla_query *q, const 
 /* A factored table: a point by its weight times its emitted energy (mean of
  * RGB), then with what is left of u0 a band of its emission by the
  * cumulative band masses; the last band takes what rounding leaves. */
-PLM_VECTOR_CLONES static int factored_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2,
+static PLM_VECTOR_INLINE int factored_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2,
                                              double angles[3], vec3 *wi)
 {
     const plm_fiber_medulla_table *m = q->table;
@@ -1298,8 +1303,8 @@ PLM_VECTOR_CLONES static int factored_sample(const plm_fiber_medulla_query *q, d
     return mass > 0.0 && direction_in_band(&r, mass, u1, u2, angles, wi);
 }
 
-int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2, double angles[3],
-                             vec3 *wi)
+PLM_VECTOR_CLONES int plm_fiber_medulla_sample(const plm_fiber_medulla_query *q, double u0, double u1, double u2,
+                                               double angles[3], vec3 *wi)
 {
     if (!q->table || !(q->sum > 0.0))
         return 0;
