@@ -222,29 +222,64 @@ static inline void medulla_error(const plm_fiber_table *t, plm_rng *rng, int vie
     free(var);
 }
 
-/* Relative L2 difference per channel, sqrt(sum (table - ref)^2 / sum ref^2),
- * over n random queries: wo uniform on the sphere, an h-interval with
+/* slow_fiber_table's random fiber: circular (with a centred circular
+ * medulla or none) or elliptical, the rest drawn from rng. Returns 0 if the
+ * draw is not a valid fiber (then draw again); name (size bytes) receives
+ * its name. */
+static inline int random_table_fiber(plm_rng *rng, int circular, int index, plm_fiber_params *p, char *name, size_t size)
+{
+    plm_fiber_params_default(p);
+    p->eta = 1.3 + 0.4 * plm_rng_uniform(rng);
+    p->sigma_a = rgb_make(3.0 * plm_rng_uniform(rng), plm_rng_uniform(rng), 0.1 * plm_rng_uniform(rng));
+    p->beta_m = plm_radians(3.0 + 20.0 * plm_rng_uniform(rng));
+    p->beta_n = plm_radians(4.0 + 20.0 * plm_rng_uniform(rng));
+    p->eccentricity = circular ? 1.0 : 1.1 + 0.8 * plm_rng_uniform(rng);
+    if (plm_rng_uniform(rng) < 0.5) {
+        p->medulla_a = p->medulla_b = 0.2 + 0.5 * plm_rng_uniform(rng);
+        p->medulla_reflectance = rgb_gray(plm_rng_uniform(rng));
+    }
+    snprintf(name, size, "random %d (e %.2f, bn %.1f deg)", index, p->eccentricity, plm_degrees(p->beta_n));
+    return plm_fiber_params_validate(p, NULL) == PLM_OK;
+}
+
+/* One query of table_error: wo uniform on the sphere, an h-interval with
  * uniform ends, and wi either uniform on the sphere (uniform_wi) or at the
  * lobes: theta_i = -theta_o plus a normal offset of beta_m, phi_i uniform
- * (where the table's values matter most). */
-static void table_error(const plm_fiber_table *t, plm_rng *rng, int n, int uniform_wi, int strata, double err[3])
+ * (where the table's values matter most). Tests that compare other
+ * estimators on table_error's queries draw them here. */
+typedef struct stats_query {
+    vec3 wo, wi;
+    double hmin, hmax;
+} stats_query;
+
+static stats_query error_query(const plm_fiber_params *p, plm_rng *rng, int uniform_wi)
+{
+    stats_query q;
+    q.wo = random_sphere(rng);
+    double h0 = 2.0 * plm_rng_uniform(rng) - 1.0, h1 = 2.0 * plm_rng_uniform(rng) - 1.0;
+    q.hmin = fmin(h0, h1);
+    q.hmax = fmax(h0, h1);
+    if (uniform_wi) {
+        q.wi = random_sphere(rng);
+    } else {
+        double u1 = fmax(plm_rng_uniform(rng), 1e-12), u2 = plm_rng_uniform(rng);
+        double g = sqrt(-2.0 * log(u1)) * cos(PLM_TWO_PI * u2); /* Box-Muller */
+        double theta = plm_clamp(-asin(q.wo.z) + p->beta_m * g, -1.55, 1.55);
+        q.wi = plm_fiber_direction(theta, PLM_TWO_PI * plm_rng_uniform(rng));
+    }
+    return q;
+}
+
+/* Relative L2 difference per channel, sqrt(sum (table - ref)^2 / sum ref^2),
+ * over n random queries (error_query). */
+static inline void table_error(const plm_fiber_table *t, plm_rng *rng, int n, int uniform_wi, int strata, double err[3])
 {
     const plm_fiber_params *p = &t->params;
     double num[3] = {0, 0, 0}, den[3] = {0, 0, 0};
-    for (int q = 0; q < n; ++q) {
-        vec3 wo = random_sphere(rng);
-        double h0 = 2.0 * plm_rng_uniform(rng) - 1.0, h1 = 2.0 * plm_rng_uniform(rng) - 1.0;
-        double hmin = fmin(h0, h1), hmax = fmax(h0, h1);
-        vec3 wi;
-        if (uniform_wi) {
-            wi = random_sphere(rng);
-        } else {
-            double u1 = fmax(plm_rng_uniform(rng), 1e-12), u2 = plm_rng_uniform(rng);
-            double g = sqrt(-2.0 * log(u1)) * cos(PLM_TWO_PI * u2); /* Box-Muller */
-            double theta = plm_clamp(-asin(wo.z) + p->beta_m * g, -1.55, 1.55);
-            wi = plm_fiber_direction(theta, PLM_TWO_PI * plm_rng_uniform(rng));
-        }
-        rgb a = table_part_eval(t, wo, hmin, hmax, wi), b = reference_eval(p, wo, hmin, hmax, wi, strata);
+    for (int i = 0; i < n; ++i) {
+        stats_query q = error_query(p, rng, uniform_wi);
+        rgb a = table_part_eval(t, q.wo, q.hmin, q.hmax, q.wi);
+        rgb b = reference_eval(p, q.wo, q.hmin, q.hmax, q.wi, strata);
         double av[3] = {a.r, a.g, a.b}, bv[3] = {b.r, b.g, b.b};
         for (int c = 0; c < 3; ++c) {
             num[c] += plm_sqr(av[c] - bv[c]);

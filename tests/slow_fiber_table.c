@@ -109,21 +109,9 @@ static void random_fibers(void **state)
     double worst = 0.0;
     for (int i = 0; i < 8;) {
         plm_fiber_params p;
-        plm_fiber_params_default(&p);
-        p.eta = 1.3 + 0.4 * plm_rng_uniform(&rng);
-        p.sigma_a = rgb_make(3.0 * plm_rng_uniform(&rng), plm_rng_uniform(&rng), 0.1 * plm_rng_uniform(&rng));
-        p.beta_m = plm_radians(3.0 + 20.0 * plm_rng_uniform(&rng));
-        p.beta_n = plm_radians(4.0 + 20.0 * plm_rng_uniform(&rng));
-        int circular = i % 2 == 0;
-        p.eccentricity = circular ? 1.0 : 1.1 + 0.8 * plm_rng_uniform(&rng);
-        if (plm_rng_uniform(&rng) < 0.5) {
-            p.medulla_a = p.medulla_b = 0.2 + 0.5 * plm_rng_uniform(&rng);
-            p.medulla_reflectance = rgb_gray(plm_rng_uniform(&rng));
-        }
-        if (plm_fiber_params_validate(&p, NULL) != PLM_OK)
-            continue;
         char name[64];
-        snprintf(name, sizeof name, "random %d (e %.2f, bn %.1f deg)", i, p.eccentricity, plm_degrees(p.beta_n));
+        if (!random_table_fiber(&rng, i % 2 == 0, i, &p, name, sizeof name))
+            continue;
         int symmetric;
         worst = fmax(worst, default_table_error(&p, name, &rng, &symmetric));
         ++i;
