@@ -35,11 +35,12 @@
  * oracle's energy, and from the single worst query.
  *
  * Usage: proto_elliptical_oracle [queries [strata [refine_theta
- * [refine_phi]]]] (defaults 2000, 2000, 1, 1): the first `queries` of each
- * kind are evaluated (all are drawn, so the later fibers keep
- * slow_fiber_table's queries); the estimators other than the table use
- * view nodes refine_theta times as dense as the table's in |theta_o| and
- * refine_phi times in phi_o (the table's among them). Set
+ * [refine_phi [draw]]]]] (defaults 2000, 2000, 1, 1, 0): the first
+ * `queries` of each kind are evaluated (all are drawn, so the later fibers
+ * keep slow_fiber_table's queries); the estimators other than the table
+ * use view nodes refine_theta times as dense as the table's in |theta_o|
+ * and refine_phi times in phi_o (the table's among them); a draw other
+ * than 0 evaluates other queries of the same kinds (the same fibers). Set
  * PLUMAGE_CACHE_DIR as ctest does (the build's fiber-cache) to reuse its
  * tables. About 20 minutes of CPU time at the defaults; not run by ctest. */
 #include <setjmp.h>
@@ -367,9 +368,16 @@ static void report(const char *name, int uniform, const stats_query *query, cons
 /* One fiber as slow_fiber_table takes it: both kinds of queries (evaluated
  * here if the fiber is elliptical, else only drawn), then its medulla
  * part's reference, run for its draws alone. */
-static void fiber(const plm_fiber_params *p, const char *name, plm_rng *rng, int evaluated, int strata,
-                  const int refine[2])
+typedef struct run_options {
+    int queries;   /* evaluated per kind of wi */
+    int strata;    /* the estimators' h strata */
+    int refine[2]; /* the estimators' nodes per the table's, in |theta_o| and phi_o */
+    int draw;      /* 0: slow_fiber_table's queries; else other queries, from stream (draw, fiber) */
+} run_options;
+
+static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rng *rng, const run_options *ro)
 {
+    const int *refine = ro->refine;
     int elliptical = p->eccentricity != 1.0;
     plm_fiber_table_options o = {0};
     o.quiet = 1;
@@ -395,12 +403,16 @@ static void fiber(const plm_fiber_params *p, const char *name, plm_rng *rng, int
             query[i] = error_query(p, rng, uniform);
         if (!elliptical)
             continue;
-        harness hs = {t, &layout, query, result, strata};
+        plm_rng other;
+        plm_rng_seed(&other, (uint64_t)ro->draw, (uint64_t)(2 * index + uniform));
+        for (int i = 0; i < QUERIES && ro->draw > 0; ++i)
+            query[i] = error_query(p, &other, uniform);
+        harness hs = {t, &layout, query, result, ro->strata};
         double started = plm_fiber_seconds();
-        assert_true(plm_fiber_parallel(query_work, &hs, evaluated, sizeof(double), p->lobes, &o, name, started));
-        report(name, uniform, query, result, evaluated);
+        assert_true(plm_fiber_parallel(query_work, &hs, ro->queries, sizeof(double), p->lobes, &o, name, started));
+        report(name, uniform, query, result, ro->queries);
         fprintf(stderr, "%-28s table %d x %d nodes, estimators %d x %d, %d strata, %.0f s\n", name, t->theta_nodes,
-                t->phi_nodes, layout.theta_nodes, layout.phi_nodes, strata, plm_fiber_seconds() - started);
+                t->phi_nodes, layout.theta_nodes, layout.phi_nodes, ro->strata, plm_fiber_seconds() - started);
     }
     if (t && t->medulla.res.theta_nodes > 0) {
         double e[3], noise[3];
@@ -415,11 +427,13 @@ static void fiber(const plm_fiber_params *p, const char *name, plm_rng *rng, int
 
 int main(int argc, char **argv)
 {
-    int evaluated = argc > 1 ? atoi(argv[1]) : QUERIES, strata = argc > 2 ? atoi(argv[2]) : 2000;
-    int refine[2] = {argc > 3 ? atoi(argv[3]) : 1, argc > 4 ? atoi(argv[4]) : 1};
-    if (evaluated < 1 || evaluated > QUERIES || strata < 1 || refine[0] < 1 || refine[0] > 8 || refine[1] < 1 ||
-        refine[1] > 8) {
-        fprintf(stderr, "usage: %s [queries (1-%d) [strata (at least 1) [theta_o and phi_o node refinement (1-8)]]]\n",
+    run_options ro = {argc > 1 ? atoi(argv[1]) : QUERIES, argc > 2 ? atoi(argv[2]) : 2000,
+                      {argc > 3 ? atoi(argv[3]) : 1, argc > 4 ? atoi(argv[4]) : 1}, argc > 5 ? atoi(argv[5]) : 0};
+    if (ro.queries < 1 || ro.queries > QUERIES || ro.strata < 1 || ro.refine[0] < 1 || ro.refine[0] > 8 ||
+        ro.refine[1] < 1 || ro.refine[1] > 8 || ro.draw < 0) {
+        fprintf(stderr,
+                "usage: %s [queries (1-%d) [strata (at least 1) [theta_o and phi_o node refinement (1-8) [draw (0: "
+                "slow_fiber_table's queries)]]]]\n",
                 argv[0], QUERIES);
         return 2;
     }
@@ -428,7 +442,7 @@ int main(int argc, char **argv)
     for (int v = 0; v < PLM_FIBER_FIGURE7_VARIANTS; ++v) {
         plm_fiber_params p;
         plm_fiber_params_figure7(&p, v);
-        fiber(&p, plm_fiber_figure7_names[v], &rng, evaluated, strata, refine);
+        fiber(&p, plm_fiber_figure7_names[v], v, &rng, &ro);
     }
     plm_rng_seed(&rng, 77, 1); /* its random_fibers */
     for (int i = 0; i < 8;) {
@@ -436,7 +450,7 @@ int main(int argc, char **argv)
         char name[64];
         if (!random_table_fiber(&rng, i % 2 == 0, i, &p, name, sizeof name))
             continue;
-        fiber(&p, name, &rng, evaluated, strata, refine);
+        fiber(&p, name, PLM_FIBER_FIGURE7_VARIANTS + i, &rng, &ro);
         ++i;
     }
     return 0;
