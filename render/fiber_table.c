@@ -887,8 +887,8 @@ static PLM_VECTOR_INLINE void moving_density(const plm_fiber_table_query *q, dou
  * curvature, which linear interpolation between bin centres flattens at a
  * peak and lifts on a flank (docs/fiber.md); the pdf reads wi's bin, which
  * eval reads anyway. */
-static PLM_VECTOR_INLINE void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta,
-                                                   double ct, rgb *f, double *pdf)
+PLM_VECTOR_CLONES static void table_lookup_angles(const plm_fiber_table_query *q, double theta, double delta,
+                                                  double ct, rgb *f, double *pdf)
 {
     const plm_fiber_table *t = q->table;
     double gm = plm_fiber_gm(t->params.beta_m, q->gm.scale, theta + q->theta_o);
@@ -940,8 +940,8 @@ static double moving_place(double a0, double a1, double u)
  * within the bin; in a moving lobe the place along its piece, then u2 the
  * offset from G_N) and theta_i from G_M (u1): the angles into theta, delta
  * (in the table's orientation) and the direction into wi. */
-static PLM_VECTOR_INLINE int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2,
-                                           double *theta, double *delta, vec3 *wi)
+PLM_VECTOR_CLONES static int table_sample(const plm_fiber_table_query *q, double u0, double u1, double u2,
+                                          double *theta, double *delta, vec3 *wi)
 {
     if (!(q->total > 0.0))
         return 0;
@@ -1020,8 +1020,7 @@ void plm_fiber_bcsdf_prepare(const plm_fiber_params *p, const plm_fiber_table *t
  * NULL: eval alone need not pay for the medulla part's pdf); angles, if not
  * NULL, are wi's (theta_i, delta, cos(theta_i)) in the table's orientation,
  * known when a part sampled wi; both parts read them. */
-static PLM_VECTOR_INLINE void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles, rgb *f,
-                                           double *pdf)
+static void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, const double *angles, rgb *f, double *pdf)
 {
     if (!b->tab.table) {
         if (f)
@@ -1055,26 +1054,21 @@ static PLM_VECTOR_INLINE void bcsdf_lookup(const plm_fiber_bcsdf *b, vec3 wi, co
     }
 }
 
-/* The queries' entry points are cloned (AVX2+FMA and the default target),
- * the part without the medulla's lookup and sampler inlined into them:
- * with only those kernels cloned, the calls went through the clones'
- * resolver and the code around them ran as the default target's
- * (docs/fiber.md: eval 8-12 ns and sample 5-25 ns slower). */
-PLM_VECTOR_CLONES rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
+rgb plm_fiber_bcsdf_eval(const plm_fiber_bcsdf *b, vec3 wi)
 {
     rgb f;
     bcsdf_lookup(b, wi, NULL, &f, NULL);
     return f;
 }
 
-PLM_VECTOR_CLONES double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi)
+double plm_fiber_bcsdf_pdf(const plm_fiber_bcsdf *b, vec3 wi)
 {
     double pdf;
     bcsdf_lookup(b, wi, NULL, NULL, &pdf);
     return pdf;
 }
 
-PLM_VECTOR_CLONES rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
+rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi, double *pdf)
 {
     rgb f;
     bcsdf_lookup(b, wi, NULL, &f, pdf);
@@ -1084,8 +1078,7 @@ PLM_VECTOR_CLONES rgb plm_fiber_bcsdf_eval_pdf(const plm_fiber_bcsdf *b, vec3 wi
 /* A direction from the mixture of the two parts, and its angles (theta_i,
  * delta, cos(theta_i)) in the table's orientation, which the lookup of its
  * eval and pdf then takes. */
-static PLM_VECTOR_INLINE int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi,
-                                             double angles[3])
+static int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi, double angles[3])
 {
     if (u0 < b->pick_table) {
         if (!table_sample(&b->tab, u0 / b->pick_table, u1, u2, &angles[0], &angles[1], wi))
@@ -1097,8 +1090,7 @@ static PLM_VECTOR_INLINE int bcsdf_sample_wi(const plm_fiber_bcsdf *b, double u0
     return plm_fiber_medulla_sample(&b->med, remapped, u1, u2, angles, wi);
 }
 
-PLM_VECTOR_CLONES int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b, double u0, double u1, double u2,
-                                                       vec3 *wi)
+int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b, double u0, double u1, double u2, vec3 *wi)
 {
     if (!(b->total > 0.0))
         return 0;
@@ -1113,8 +1105,7 @@ PLM_VECTOR_CLONES int plm_fiber_bcsdf_sample_direction(const plm_fiber_bcsdf *b,
     return bcsdf_sample_wi(b, u0, u1, u2, wi, angles);
 }
 
-PLM_VECTOR_CLONES int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2,
-                                             plm_fiber_sample_rec *rec)
+int plm_fiber_bcsdf_sample(const plm_fiber_bcsdf *b, double u0, double u1, double u2, plm_fiber_sample_rec *rec)
 {
     if (!(b->total > 0.0))
         return 0;
