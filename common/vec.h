@@ -66,25 +66,27 @@ static inline void plm_sincos(double x, double *s, double *c)
     *c = sign[((k + 1u) >> 1) & 1u] * v[(k + 1u) & 1u];
 }
 
-/* atan(n / d) for 0 <= n <= d (d normal, far from overflow) carried into
- * octant o = 2 (x < 0) + (|y| > |x|) of atan2(y, x) for y >= 0: the shared
- * part of plm_atan2 and plm_asin. atan(n / d) = atan(c) + atan(u) with
- * u = (n - c d) / (d + c n), one division, for c = 0 up to n / d = 0.16,
- * then 1/4, 1/2 and 1 (0.3697 and 0.7222 lie midway between the arctangents).
- * As c is a power of two and n / d within a factor of two of it, c d and
- * n - c d are exact, so u carries only the division's and d + c n's
- * roundings, relative to u; |u| <= 0.1633 everywhere. That error counts
- * against the result in proportion to |u| / |result|: c = 1/4 from
- * n / d = 1/8 up put it at 2 ulp just under 1/8, hence 0.16. On |u| <= 0.1633
- * atan(u) = u + u^3 P(u^2) with P of degree 6, fitted to (atan(u) - u) / u^3
- * at Chebyshev nodes in u^2 in 50-digit arithmetic and rounded, is off by
- * under 0.02 ulp. The octant's offset plus or minus atan(c) is stored as a
- * double and the rest below it, added to the small terms first, so the sum
- * rounds once. */
-static inline double plm_atan_octant(double n, double d, unsigned o)
+/* atan2(y, x) at a fraction of the C library's cost (the fiber BCSDF's view
+ * angles; docs/fiber.md). With n and d the smaller and larger of |x| and
+ * |y|, atan(n / d) = atan(c) + atan(u), u = (n - c d) / (d + c n) (one
+ * division), for c = 0 up to n / d = 0.16, then 1/4, 1/2 and 1 (0.3697 and
+ * 0.7222 lie midway between the arctangents). As c is a power of two and
+ * n / d within a factor of two of it, c d and n - c d are exact, so u carries
+ * only the division's and d + c n's roundings, relative to u; |u| <= 0.1633
+ * everywhere. That error counts against the result in proportion to
+ * |u| / |result|: c = 1/4 from n / d = 1/8 up made it 2 ulp just under 1/8,
+ * hence 0.16. On |u| <= 0.1633 atan(u) = u + u^3 P(u^2) with P of degree 6,
+ * fitted to (atan(u) - u) / u^3 at Chebyshev nodes in u^2 in 50-digit
+ * arithmetic and rounded, is off by under 0.02 ulp. The octant's offset
+ * (0, pi/2 or pi) plus or minus atan(c) is stored as a double and the rest
+ * below it, added to the small terms first, so the sum rounds once; then y's
+ * sign. Within 1 ulp of the C library (tests/test_common.c); zeros,
+ * infinities, NaNs and the larger of |x|, |y| outside [2^-1000, 2^1000] are
+ * the library's. */
+static inline double plm_atan2(double y, double x)
 {
     static const double c_of[4] = {0.0, 0.25, 0.5, 1.0};
-    /* {0, pi/2, pi, pi/2} + {1, -1, -1, 1} atan(c), octant by octant, as hi + lo */
+    /* octant o = 2 (x < 0) + (|y| > |x|): {0, pi/2, pi, pi/2} + {1, -1, -1, 1} atan(c) as hi + lo */
     static const double hi[16] = {
         0.0, 0x1.f5b75f92c80ddp-3, 0x1.dac670561bb4fp-2, 0x1.921fb54442d18p-1,
         0x1.921fb54442d18p+0, 0x1.5368c951e9cfdp+0, 0x1.1b6e192ebbe44p+0, 0x1.921fb54442d18p-1,
@@ -96,42 +98,41 @@ static inline double plm_atan_octant(double n, double d, unsigned o)
         0x1.1a62633145c07p-53, 0x1.c1b6f4f44e10bp-53, 0x1.660b64ece6f4bp-53, 0x1.a79394c9e8a0ap-54,
         0x1.1a62633145c07p-54, -0x1.a23602a65700cp-57, 0x1.0620bf7406affp-55, 0x1.a79394c9e8a0ap-54};
     static const double sign[4] = {1.0, -1.0, -1.0, 1.0};
+    double ax = fabs(x), ay = fabs(y);
+    unsigned swap = ay > ax, o = 2u * (x < 0.0) + swap;
+    double n = swap ? ax : ay, d = swap ? ay : ax;
+    if (!(d > 0x1p-1000 && d < 0x1p1000))
+        return atan2(y, x);
     unsigned k = (unsigned)(n > 0.16 * d) + (unsigned)(n > 0.3697 * d) + (unsigned)(n > 0.7222 * d);
     double c = c_of[k], u = (n - c * d) / (d + c * n), z = u * u;
     double p = u + u * (z * (-0x1.5555555555554p-2 + z * (0x1.9999999997891p-3 + z * (-0x1.2492491fbb81ap-3 +
                z * (0x1.c71c6942d7333p-4 + z * (-0x1.745983e5f0e4bp-4 + z * (0x1.3a4db58b592cep-4 +
                z * -0x1.f74c7b253c853p-5)))))));
     unsigned i = 4u * o + k;
-    return hi[i] + (sign[o] * p + lo[i]);
+    return copysign(hi[i] + (sign[o] * p + lo[i]), y);
 }
 
-/* atan2(y, x) at a fraction of the C library's cost (the fiber BCSDF's view
- * angles; docs/fiber.md): the smaller of |x| and |y| over the larger by
- * plm_atan_octant, then the sign of y. Within 1 ulp of the C library
- * (tests/test_common.c); zeros, infinities, NaNs and the larger of |x|, |y|
- * outside [2^-1000, 2^1000] are the library's. */
-static inline double plm_atan2(double y, double x)
-{
-    double ax = fabs(x), ay = fabs(y);
-    unsigned swap = ay > ax;
-    double n = swap ? ax : ay, d = swap ? ay : ax;
-    if (!(d > 0x1p-1000 && d < 0x1p1000))
-        return atan2(y, x);
-    return copysign(plm_atan_octant(n, d, 2u * (x < 0.0) + swap), y);
-}
-
-/* asin(x) for x in [-1, 1] (NaN outside) as atan2(|x|, sqrt(1 - x^2)) with
- * x's sign. 1 - x^2 is (1 - |x|)(1 + |x|) beyond |x| = 1/2, where 1 - |x|
- * is exact and the product off by two roundings relative to it, and
- * 1 - |x| |x| below, off by little more than its own rounding (the product's
- * form there made asin 3 ulp off now and then, just below powers of two).
- * Within 2 ulp of the C library (tests/test_common.c); asin(+-1) = +-pi/2
- * and asin(+-0) = +-0 exactly. */
+/* asin(x) for x in [-1, 1] (NaN outside), at a fraction of the C library's
+ * cost. Up to |x| = 1/2, asin(x) = x + x w Q(w) with w = x^2; beyond,
+ * asin(|x|) = pi/2 - 2 asin(s) with s = sqrt(w), w = (1 - |x|) / 2 (exact),
+ * and asin(s) = s + s w Q(w) again: either way w <= 1/4. Q of degree 12,
+ * fitted to (asin(s) - s) / s^3 at Chebyshev nodes in w in 50-digit
+ * arithmetic and rounded, is off by under 0.05 ulp there (asin's singularity
+ * at w = 1 is what needs the degree). pi/2 - 2 s is taken before pi/2's low
+ * part and the small terms are added. Within 2 ulp of the C library
+ * (tests/test_common.c); asin(+-1) = +-pi/2 and asin(+-0) = +-0 exactly. */
 static inline double plm_asin(double x)
 {
-    double n = fabs(x), d = sqrt(n > 0.5 ? (1.0 - n) * (1.0 + n) : 1.0 - n * n);
-    unsigned swap = n > d;
-    return copysign(plm_atan_octant(swap ? d : n, swap ? n : d, swap), x);
+    double n = fabs(x);
+    int big = n > 0.5;
+    double w = big ? 0.5 - 0.5 * n : n * n, s = big ? sqrt(w) : n;
+    double t = s * w * (0x1.5555555555556p-3 + w * (0x1.3333333332ecap-4 + w * (0x1.6db6db6e31f13p-5 +
+               w * (0x1.f1c71c1db0623p-6 + w * (0x1.6e8bb1c8209a2p-6 + w * (0x1.1c4d35cf95421p-6 +
+               w * (0x1.c9cf07674736ap-7 + w * (0x1.782651caa6547p-7 + w * (0x1.52420b04b37bep-7 +
+               w * (0x1.65a9c4dfcf8b2p-8 + w * (0x1.1d189408314eep-6 + w * (-0x1.e6aaa8a0a04ccp-7 +
+               w * 0x1.d72b2bc8155f8p-6))))))))))));
+    double a = big ? (0x1.921fb54442d18p+0 - 2.0 * s) + (0x1.1a62633145c07p-54 - 2.0 * t) : s + t;
+    return copysign(a, x);
 }
 
 static inline vec2 v2(double x, double y) { vec2 v = {x, y}; return v; }
