@@ -597,8 +597,8 @@ int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber
     if (!(ct > 1e-12) || !(hmin <= hmax))
         return 0;
     double len = sqrt(ct * ct + wo.z * wo.z); /* wo is about unit length: no hypot needed */
-    v->theta_o = atan2(wo.z, ct);
-    v->phi_o = atan2(wo.y, wo.x);
+    v->theta_o = plm_atan2(wo.z, ct);
+    v->phi_o = plm_atan2(wo.y, wo.x);
     v->sin_theta = fabs(wo.z) / len;
     v->cos_theta = ct / len;
     /* x -> -x takes phi to pi - phi, y -> -y takes phi to -phi; either turns
@@ -617,8 +617,8 @@ int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber
     }
     v->hmin = plm_clamp(hmin, -1.0, 1.0);
     v->hmax = plm_clamp(hmax, -1.0, 1.0);
-    v->asin_hmin = asin(v->hmin);
-    v->asin_hmax = asin(v->hmax);
+    v->asin_hmin = plm_asin(v->hmin);
+    v->asin_hmax = plm_asin(v->hmax);
     return 1;
 }
 
