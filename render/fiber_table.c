@@ -800,8 +800,8 @@ static int table_angles(const plm_fiber_table_query *q, vec3 wi, double *theta, 
     *ct = sqrt(wi.x * wi.x + wi.y * wi.y);
     if (!(*ct > 1e-12))
         return 0;
-    *theta = fabs(wi.z) < 0.9 ? asin(wi.z) : atan2(wi.z, *ct);
-    double d = plm_wrap_pi(atan2(wi.y, wi.x) - q->phi_o);
+    *theta = fabs(wi.z) < 0.9 ? plm_asin(wi.z) : plm_atan2(wi.z, *ct);
+    double d = plm_wrap_pi(plm_atan2(wi.y, wi.x) - q->phi_o);
     *delta = q->flip ? -d : d;
     return 1;
 }
