@@ -120,10 +120,14 @@ static inline double plm_atan2(double y, double x)
  * arithmetic and rounded, is off by under 0.05 ulp there (asin's singularity
  * at w = 1 is what needs the degree). pi/2 - 2 s is taken before pi/2's low
  * part and the small terms are added. Within 2 ulp of the C library
- * (tests/test_common.c); asin(+-1) = +-pi/2 and asin(+-0) = +-0 exactly. */
+ * (tests/test_common.c); asin(+-1) = +-pi/2 and asin(+-0) = +-0 exactly,
+ * +-1 (half the fiber view's h ends: whole intervals) without the
+ * polynomial. */
 static inline double plm_asin(double x)
 {
     double n = fabs(x);
+    if (n == 1.0)
+        return copysign(0x1.921fb54442d18p+0, x);
     int big = n > 0.5;
     double w = big ? 0.5 - 0.5 * n : n * n, s = big ? sqrt(w) : n;
     double t = s * w * (0x1.5555555555556p-3 + w * (0x1.3333333332ecap-4 + w * (0x1.6db6db6e31f13p-5 +
