@@ -26,7 +26,6 @@ static inline double plm_positive(double x) { return x > 0.0 ? x : 0.0; }
 /* sqrt and asin that tolerate arguments a rounding error outside their domain. */
 static inline double plm_safe_sqrt(double x) { return x > 0.0 ? sqrt(x) : 0.0; }
 static inline double plm_safe_asin(double x) { return asin(plm_clamp(x, -1.0, 1.0)); }
-static inline double plm_safe_acos(double x) { return acos(plm_clamp(x, -1.0, 1.0)); }
 /* An angle wrapped into [-pi, pi), from any number of turns away. */
 static inline double plm_wrap_pi(double a) { return a - PLM_TWO_PI * floor((a + PLM_PI) / PLM_TWO_PI); }
 
@@ -112,32 +111,58 @@ static inline double plm_atan2(double y, double x)
     return copysign(hi[i] + (sign[o] * p + lo[i]), y);
 }
 
-/* asin(x) for x in [-1, 1] (NaN outside), at a fraction of the C library's
- * cost. Up to |x| = 1/2, asin(x) = x + x w Q(w) with w = x^2; beyond,
- * asin(|x|) = pi/2 - 2 asin(s) with s = sqrt(w), w = (1 - |x|) / 2 (exact),
- * and asin(s) = s + s w Q(w) again: either way w <= 1/4. Q of degree 12,
+/* asin(s) - s for s = sqrt(w), w in [0, 1/4]: s w Q(w), Q of degree 12
  * fitted to (asin(s) - s) / s^3 at Chebyshev nodes in w in 50-digit
- * arithmetic and rounded, is off by under 0.05 ulp there (asin's singularity
- * at w = 1 is what needs the degree). pi/2 - 2 s is taken before pi/2's low
- * part and the small terms are added. Within 2 ulp of the C library
- * (tests/test_common.c); asin(+-1) = +-pi/2 and asin(+-0) = +-0 exactly,
- * +-1 (half the fiber view's h ends: whole intervals) without the
- * polynomial. */
+ * arithmetic and rounded, off by under 0.05 ulp there (asin's singularity
+ * at w = 1 is what needs the degree). The kernel of plm_asin and
+ * plm_acos. */
+static inline double plm_asin_tail(double s, double w)
+{
+    return s * w * (0x1.5555555555556p-3 + w * (0x1.3333333332ecap-4 + w * (0x1.6db6db6e31f13p-5 +
+           w * (0x1.f1c71c1db0623p-6 + w * (0x1.6e8bb1c8209a2p-6 + w * (0x1.1c4d35cf95421p-6 +
+           w * (0x1.c9cf07674736ap-7 + w * (0x1.782651caa6547p-7 + w * (0x1.52420b04b37bep-7 +
+           w * (0x1.65a9c4dfcf8b2p-8 + w * (0x1.1d189408314eep-6 + w * (-0x1.e6aaa8a0a04ccp-7 +
+           w * 0x1.d72b2bc8155f8p-6))))))))))));
+}
+
+/* asin(x) for x in [-1, 1] (NaN outside), at a fraction of the C library's
+ * cost. Up to |x| = 1/2, asin(x) = x + plm_asin_tail(x, x^2); beyond,
+ * asin(|x|) = pi/2 - 2 asin(s) with s = sqrt(w), w = (1 - |x|) / 2 (exact),
+ * and asin(s) = s + plm_asin_tail(s, w) again: either way w <= 1/4.
+ * pi/2 - 2 s is taken before pi/2's low part and the small terms are added.
+ * Within 2 ulp of the C library (tests/test_common.c); asin(+-1) = +-pi/2
+ * and asin(+-0) = +-0 exactly, +-1 (half the fiber view's h ends: whole
+ * intervals) without the polynomial. */
 static inline double plm_asin(double x)
 {
     double n = fabs(x);
     if (n == 1.0)
         return copysign(0x1.921fb54442d18p+0, x);
     int big = n > 0.5;
-    double w = big ? 0.5 - 0.5 * n : n * n, s = big ? sqrt(w) : n;
-    double t = s * w * (0x1.5555555555556p-3 + w * (0x1.3333333332ecap-4 + w * (0x1.6db6db6e31f13p-5 +
-               w * (0x1.f1c71c1db0623p-6 + w * (0x1.6e8bb1c8209a2p-6 + w * (0x1.1c4d35cf95421p-6 +
-               w * (0x1.c9cf07674736ap-7 + w * (0x1.782651caa6547p-7 + w * (0x1.52420b04b37bep-7 +
-               w * (0x1.65a9c4dfcf8b2p-8 + w * (0x1.1d189408314eep-6 + w * (-0x1.e6aaa8a0a04ccp-7 +
-               w * 0x1.d72b2bc8155f8p-6))))))))))));
+    double w = big ? 0.5 - 0.5 * n : n * n, s = big ? sqrt(w) : n, t = plm_asin_tail(s, w);
     double a = big ? (0x1.921fb54442d18p+0 - 2.0 * s) + (0x1.1a62633145c07p-54 - 2.0 * t) : s + t;
     return copysign(a, x);
 }
+
+/* acos(x) for x in [-1, 1] (NaN outside), at a fraction of the C library's
+ * cost (the environment map's lookup of every escaping ray; docs/benchmarks.md),
+ * from plm_asin_tail. Up to |x| = 1/2, acos(x) = pi/2 - (x + tail), with
+ * pi/2's low part taken from the tail first (result >= pi/3); beyond, with
+ * s = sqrt(w), w = (1 - |x|) / 2 (exact), acos(x) = 2 asin(s) for x > 0,
+ * which keeps its relative accuracy as the result goes to 0, and
+ * pi - 2 asin(s) for x < 0. Within 2 ulp of the C library
+ * (tests/test_common.c); acos(1) = 0 and acos(-1) = pi exactly. */
+static inline double plm_acos(double x)
+{
+    double n = fabs(x);
+    int big = n > 0.5;
+    double w = big ? 0.5 - 0.5 * n : n * n, s = big ? sqrt(w) : n, t = plm_asin_tail(s, w);
+    if (!big)
+        return 0x1.921fb54442d18p+0 - (x + (copysign(t, x) - 0x1.1a62633145c07p-54));
+    return x > 0.0 ? 2.0 * (s + t) : (0x1.921fb54442d18p+1 - 2.0 * s) + (0x1.1a62633145c07p-53 - 2.0 * t);
+}
+
+static inline double plm_safe_acos(double x) { return acos(plm_clamp(x, -1.0, 1.0)); }
 
 static inline vec2 v2(double x, double y) { vec2 v = {x, y}; return v; }
 static inline vec2 v2_add(vec2 a, vec2 b) { return v2(a.x + b.x, a.y + b.y); }

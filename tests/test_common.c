@@ -173,6 +173,45 @@ static void asin_matches_the_library(void **state)
     print_message("asin: worst %.2f ulp\n", worst);
 }
 
+/* plm_acos against the C library's acos: within 2 ulp at 4 million
+ * deterministic random points, a million each: over [-1, 1]; next to +-1/2
+ * (where it turns from pi/2 - asin(x) to 2 asin(sqrt((1 - |x|) / 2)) or
+ * pi less that), +-1 and the cosines of 2, 1, 1/2, ..., 1/32 (results
+ * just under a power of two, where an ulp is smallest against the error);
+ * |x| down to 2^-1074; and 1 - |x| from 2^-1 down to 2^-53 (results down
+ * to 2^-26 and up to pi). acos(1) = 0 and acos(-1) = pi exactly; NaN for
+ * NaN and outside [-1, 1]. */
+static void acos_matches_the_library(void **state)
+{
+    (void)state;
+    assert_true(plm_acos(1.0) == 0.0 && plm_acos(-1.0) == PLM_PI && plm_acos(-1.0) == acos(-1.0));
+    assert_true(plm_acos(0.0) == acos(0.0) && plm_acos(-0.0) == acos(-0.0));
+    assert_true(plm_acos(0.5) == acos(0.5) && plm_acos(-0.5) == acos(-0.5));
+    assert_true(isnan(plm_acos(NAN)) && isnan(plm_acos(1.5)) && isnan(plm_acos(-1.0 - 0x1p-52)));
+
+    plm_rng rng;
+    plm_rng_seed(&rng, 14, 0);
+    double edge[9] = {0.5, 1.0};
+    for (int k = 0; k < 7; ++k)
+        edge[2 + k] = cos(ldexp(1.0, 1 - k));
+    double worst = 0.0;
+    for (int i = 0; i < 4000000; ++i) {
+        double x;
+        if (i < 1000000)
+            x = uniform_in(&rng, -1.0, 1.0);
+        else if (i < 2000000) {
+            double e = edge[i % 9];
+            x = fmin(e * (1.0 + ldexp(uniform_in(&rng, -1.0, 1.0), -(i % 50) - 2)), 1.0);
+        } else if (i < 3000000)
+            x = ldexp(uniform_in(&rng, 1.0, 2.0), -(i % 1080));
+        else
+            x = 1.0 - ldexp(uniform_in(&rng, 1.0, 2.0), -(i % 53) - 1);
+        x = (i & 1) ? -x : x;
+        ulp_off(plm_acos(x), acos(x), 2.0, &worst, "acos", x, 0.0);
+    }
+    print_message("acos: worst %.2f ulp\n", worst);
+}
+
 static void rng_is_reproducible_and_uniform(void **state)
 {
     (void)state;
@@ -579,6 +618,7 @@ int main(void)
         cmocka_unit_test(sincos_matches_the_library),
         cmocka_unit_test(atan2_matches_the_library),
         cmocka_unit_test(asin_matches_the_library),
+        cmocka_unit_test(acos_matches_the_library),
         cmocka_unit_test(rng_is_reproducible_and_uniform),
         cmocka_unit_test(distribution_finds_the_last_entry_at_most_u),
         cmocka_unit_test(distribution_matches_weights),
