@@ -162,7 +162,7 @@ static inline double plm_acos(double x)
     return x > 0.0 ? 2.0 * (s + t) : (0x1.921fb54442d18p+1 - 2.0 * s) + (0x1.1a62633145c07p-53 - 2.0 * t);
 }
 
-static inline double plm_safe_acos(double x) { return acos(plm_clamp(x, -1.0, 1.0)); }
+static inline double plm_safe_acos(double x) { return plm_acos(plm_clamp(x, -1.0, 1.0)); }
 
 static inline vec2 v2(double x, double y) { vec2 v = {x, y}; return v; }
 static inline vec2 v2_add(vec2 a, vec2 b) { return v2(a.x + b.x, a.y + b.y); }

@@ -72,9 +72,11 @@ void plm_render_light_free(plm_render_light *l)
     memset(l, 0, sizeof *l);
 }
 
+/* plm_atan2 and plm_acos (via plm_safe_acos) rather than the C library's:
+ * this runs for every escaping ray and every light sample's density. */
 vec2 plm_envmap_uv(double rotation, vec3 d)
 {
-    double phi = atan2(d.x, -d.z) - rotation;
+    double phi = plm_atan2(d.x, -d.z) - rotation;
     double u = phi / PLM_TWO_PI + 0.5;
     u -= floor(u);
     return v2(u, plm_safe_acos(d.y) / PLM_PI);
@@ -83,9 +85,10 @@ vec2 plm_envmap_uv(double rotation, vec3 d)
 /* The direction of uv and its sin(theta), which a density over the sphere divides by. */
 static vec3 envmap_direction(double rotation, vec2 uv, double *sin_theta)
 {
-    double theta = PLM_PI * uv.y, phi = PLM_TWO_PI * (uv.x - 0.5) + rotation;
-    *sin_theta = sin(theta);
-    return v3(*sin_theta * sin(phi), cos(theta), -*sin_theta * cos(phi));
+    double cos_theta, sin_phi, cos_phi;
+    plm_sincos(PLM_PI * uv.y, sin_theta, &cos_theta);
+    plm_sincos(PLM_TWO_PI * (uv.x - 0.5) + rotation, &sin_phi, &cos_phi);
+    return v3(*sin_theta * sin_phi, cos_theta, -*sin_theta * cos_phi);
 }
 
 vec3 plm_envmap_direction(double rotation, vec2 uv)
@@ -123,12 +126,16 @@ rgb plm_light_environment(const plm_render_light *l, vec3 d, double *pdf)
         return desc->radiance;
     }
     /* One direction -> (u, v) for the radiance and the density: its atan2
-     * and acos are most of a lookup. */
+     * and acos are most of a lookup. sin(theta) as plm_light_sample_from's
+     * envmap_direction takes it, so that the two densities agree. */
     vec2 uv = plm_envmap_uv(desc->rotation, d);
     int x, y;
     envmap_texel(&desc->image, uv, &x, &y);
-    if (pdf)
-        *pdf = envmap_texel_pdf(&l->env, x, y, sin(PLM_PI * uv.y));
+    if (pdf) {
+        double sin_theta, cos_theta;
+        plm_sincos(PLM_PI * uv.y, &sin_theta, &cos_theta);
+        *pdf = envmap_texel_pdf(&l->env, x, y, sin_theta);
+    }
     return rgb_mul(desc->radiance, texel_rgb(&desc->image, x, y));
 }
 
