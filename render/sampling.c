@@ -2,10 +2,13 @@
 
 #include "common/rng.h"
 
+/* plm_sincos rather than the C library's: the trace-only pass takes one of
+ * these for every camera sample. */
 vec3 plm_sample_cosine_hemisphere(double u1, double u2)
 {
-    double r = sqrt(u1), phi = PLM_TWO_PI * u2;
-    return v3(r * cos(phi), r * sin(phi), plm_safe_sqrt(1.0 - u1));
+    double r = sqrt(u1), s, c;
+    plm_sincos(PLM_TWO_PI * u2, &s, &c);
+    return v3(r * c, r * s, plm_safe_sqrt(1.0 - u1));
 }
 
 vec3 plm_sample_uniform_sphere(double u1, double u2)
