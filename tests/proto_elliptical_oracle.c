@@ -81,8 +81,45 @@ typedef struct lobe_list {
     rgb a[LIST];
 } lobe_list;
 
+/* The |theta_o| blending study (the sixth argument 1): every estimator
+ * blends the exact values of the nodes (as "values" does), each with its
+ * own weights across |theta_o| nodes (the phi_o fraction as the table's):
+ *   lin-ft       linear in the node coordinate's fraction (= "values")
+ *   lin-X        the fraction linear in X = theta, cos(theta), cos^2, u^2
+ *   mix          the mean of lin-cos's and lin-cos2's fractions
+ *   quad-X       Lagrange through three |theta_o| nodes in X = the node
+ *                coordinate, cos(theta), u: the interval's two and the one
+ *                below (the one above at the first interval); "up": the
+ *                one above where there is one
+ *   cubic-cos    Lagrange through four nodes in cos(theta) (three at the
+ *                first and last intervals, as quad-cos)
+ *   quad-cos-73, quad-cos-last  quad-cos only from the node at 73 deg up
+ *                (the last four nodes), or in the last interval only;
+ *                lin-ft elsewhere
+ *   R lin-ft / int lin-cos2, R lin-cos / int lin-cos2  (diagnostics a
+ *                table of summed lobes cannot do): the surface reflection
+ *                (wall hits 0) and the internal lobes blended apart
+ *   quad-cos-73 >=0  quad-cos-73 with each channel clamped at 0
+ *   efrac-cos    the two nodes of lin-ft with the fraction at which their
+ *                interval energies (mean of RGB, phi_o blended) blend to
+ *                quad-cos's of the three nodes' (lin-ft's where the two
+ *                are within 1e-3 of each other), clamped to [0, 1]
+ *   escale-cos   lin-ft times quad-cos's energy over lin-ft's (clamped at
+ *                0; per channel in escale-rgb)
+ *   "-73": from the node at 73 deg up only (lin-ft elsewhere) */
+enum {
+    LIN_FT, LIN_THETA, LIN_COS, LIN_COS2, LIN_U2, MIX, QUAD_FT, QUAD_COS, QUAD_U, QUAD_COS_UP, CUBIC_COS,
+    QUAD_COS_73, QUAD_COS_LAST, SPLIT_FT_COS2, SPLIT_COS_COS2, QUAD_COS_73_CLAMPED, EFRAC_COS, EFRAC_COS_73,
+    ESCALE_COS, ESCALE_COS_73, ESCALE_RGB_73, STUDY_ESTIMATORS
+};
+static const char *const study_names[STUDY_ESTIMATORS] = {
+    "lin-ft", "lin-theta", "lin-cos", "lin-cos2", "lin-u2", "mix", "quad-ft", "quad-cos", "quad-u", "quad-cos-up",
+    "cubic-cos", "quad-cos-73", "quad-cos-last", "R ft, int cos2", "R cos, int cos2", "quad-cos-73 >=0", "efrac-cos",
+    "efrac-cos-73", "escale-cos", "escale-cos-73", "escale-rgb-73"};
+enum { MOST_ESTIMATORS = 2 + STUDY_ESTIMATORS > ESTIMATORS ? 2 + STUDY_ESTIMATORS : ESTIMATORS };
+
 typedef struct query_result {
-    rgb ref, est[ESTIMATORS];
+    rgb ref, est[MOST_ESTIMATORS]; /* the study's: est[0] the table, est[1 + e] the study's estimator e */
     double missing; /* the oracle's share of energy (mean of RGB) in slots missing at one of the nodes */
 } query_result;
 
@@ -91,6 +128,7 @@ typedef struct harness {
     const stats_query *query;
     query_result *result;
     int strata; /* the estimators' h strata (the reference's are REFERENCE_STRATA) */
+    int study;  /* 1: the |theta_o| blending study instead of the oracle's estimators */
 } harness;
 
 static int find_slot(const lobe_list *l, int slot)
@@ -298,6 +336,182 @@ static void node_estimates(const plm_fiber_table *t, stats_query q, int strata, 
     r->missing = energy[0] > 0.0 ? energy[1] / energy[0] : 0.0;
 }
 
+/* Lagrange weights at x through the n points xs. */
+static void lagrange(const double *xs, int n, double x, double *w)
+{
+    for (int i = 0; i < n; ++i) {
+        w[i] = 1.0;
+        for (int j = 0; j < n; ++j)
+            if (j != i)
+                w[i] *= (x - xs[j]) / (xs[i] - xs[j]);
+    }
+}
+
+/* The study's weights over the |theta_o| levels it - 1 .. it + 2 (wt[0 .. 3];
+ * levels outside the table get none) for estimator e and the class of lobe
+ * (0: the surface reflection, 1: internal lobes; only the split
+ * diagnostics tell them apart). x[k] are the levels' coordinates in the
+ * schemes' variables: ft, theta, cos, cos^2, u^2, u (x[var][k]), q the
+ * query's. */
+enum { VAR_FT, VAR_THETA, VAR_COS, VAR_COS2, VAR_U2, VAR_U, VARS };
+static void study_weights(int e, int cls, int it, int n, double x[VARS][4], const double q[VARS], double wt[4])
+{
+    wt[0] = wt[1] = wt[2] = wt[3] = 0.0;
+    int has_below = it >= 1, has_above = it + 2 <= n - 1;
+    if (e == SPLIT_FT_COS2)
+        e = cls == 0 ? LIN_FT : LIN_COS2;
+    else if (e == SPLIT_COS_COS2)
+        e = cls == 0 ? LIN_COS : LIN_COS2;
+    else if (e == QUAD_COS_73 || e == QUAD_COS_73_CLAMPED)
+        e = it >= n - 4 ? QUAD_COS : LIN_FT;
+    else if (e >= EFRAC_COS)
+        e = LIN_FT; /* corrected afterwards from the energies */
+    else if (e == QUAD_COS_LAST)
+        e = it == n - 2 ? QUAD_COS : LIN_FT;
+    if (e <= MIX) {
+        static const int var[MIX] = {VAR_FT, VAR_THETA, VAR_COS, VAR_COS2, VAR_U2};
+        double f;
+        if (e == MIX) {
+            double a = (q[VAR_COS] - x[VAR_COS][1]) / (x[VAR_COS][2] - x[VAR_COS][1]);
+            double b = (q[VAR_COS2] - x[VAR_COS2][1]) / (x[VAR_COS2][2] - x[VAR_COS2][1]);
+            f = 0.5 * (a + b);
+        } else {
+            int v = var[e];
+            f = (q[v] - x[v][1]) / (x[v][2] - x[v][1]);
+        }
+        f = plm_clamp(f, 0.0, 1.0);
+        wt[1] = 1.0 - f;
+        wt[2] = f;
+        return;
+    }
+    int v = e == QUAD_FT ? VAR_FT : e == QUAD_U ? VAR_U : VAR_COS;
+    int first; /* the first of three levels (0 .. 3) */
+    if (e == CUBIC_COS && has_below && has_above) {
+        lagrange(x[v], 4, q[v], wt);
+        return;
+    }
+    if (e == QUAD_COS_UP)
+        first = has_above ? 1 : 0;
+    else
+        first = has_below ? 0 : 1;
+    lagrange(x[v] + first, 3, q[v], wt + first);
+}
+
+/* The study at one query: the nodes' exact values (the mean over `strata`
+ * midpoint strata of the lobes' G_N at wi, the surface reflection and the
+ * internal lobes apart) at the two phi_o nodes of the |theta_o| levels
+ * it - 1 .. it + 2, blended by each estimator's weights. */
+static void study_estimates(const plm_fiber_table *t, stats_query q, int strata, plm_fiber_lobe *lobes, rgb *est)
+{
+    const plm_fiber_params *p = &t->params;
+    for (int e = 0; e < STUDY_ESTIMATORS; ++e)
+        est[e] = rgb_gray(0.0);
+    plm_fiber_view v;
+    double ct = sqrt(q.wi.x * q.wi.x + q.wi.y * q.wi.y);
+    if (!plm_fiber_view_of(t->symmetry, q.wo, q.hmin, q.hmax, &v) || !(ct > 1e-12))
+        return;
+    double theta_i = atan2(q.wi.z, ct), x = remainder(atan2(q.wi.y, q.wi.x) - v.phi_o, PLM_TWO_PI);
+    x = v.flip ? -x : x;
+    if (fabs(theta_i + v.theta_o) > 12.0 * p->beta_m)
+        return;
+    int n = t->theta_nodes;
+    double ft = plm_fiber_theta_coordinate(p->eta, t->u_last, t->theta_max, n, fabs(v.theta_o), v.sin_theta,
+                                           v.cos_theta);
+    int nodes[4];
+    double w[4];
+    plm_fiber_corners(t->symmetry, n, t->phi_nodes, t->phi_lo, t->phi_step, ft, v.phi, nodes, w);
+    int it = nodes[0] / t->phi_nodes, ip[2] = {nodes[0] % t->phi_nodes, nodes[1] % t->phi_nodes};
+    double fp = w[0] + w[1] > 0.0 ? w[1] / (w[0] + w[1]) : w[3] / (w[2] + w[3]);
+    double xs[VARS][4], qx[VARS];
+    double tq = fabs(v.theta_o);
+    qx[VAR_FT] = ft;
+    qx[VAR_THETA] = tq;
+    qx[VAR_COS] = v.cos_theta;
+    qx[VAR_COS2] = v.cos_theta * v.cos_theta;
+    qx[VAR_U] = plm_fiber_theta_u(p->eta, tq);
+    qx[VAR_U2] = qx[VAR_U] * qx[VAR_U];
+    vec3 wo_node[4][2];
+    double phi_node[2] = {t->phi_lo + ip[0] * t->phi_step, t->phi_lo + ip[1] * t->phi_step};
+    for (int k = 0; k < 4; ++k) {
+        int level = it - 1 + k;
+        if (level < 0 || level > n - 1)
+            continue;
+        double th = plm_fiber_node_theta(p->eta, t->u_last, t->theta_max, n, level);
+        xs[VAR_FT][k] = level;
+        xs[VAR_THETA][k] = th;
+        xs[VAR_COS][k] = cos(th);
+        xs[VAR_COS2][k] = cos(th) * cos(th);
+        xs[VAR_U][k] = plm_fiber_theta_u(p->eta, th);
+        xs[VAR_U2][k] = xs[VAR_U][k] * xs[VAR_U][k];
+        for (int j = 0; j < 2; ++j)
+            wo_node[k][j] = plm_fiber_direction(th, phi_node[j]);
+    }
+    plm_rng rng;
+    plm_rng_seed(&rng, 5, 5);
+    rgb value[4][2][2] = {{{{0}}}}; /* level, phi_o node, class (reflection, internal) */
+    rgb energy[4][2] = {{{0}}};     /* level, phi_o node: the interval's energy */
+    lobe_list l;
+    for (int s = 0; s < strata; ++s) {
+        double h = v.hmin + (v.hmax - v.hmin) * (s + 0.5) / strata;
+        for (int k = 0; k < 4; ++k) {
+            int level = it - 1 + k;
+            if (level < 0 || level > n - 1)
+                continue;
+            for (int j = 0; j < 2; ++j) {
+                trace_node(p, wo_node[k][j], phi_node[j], h, &rng, lobes, &l);
+                for (int m = 0; m < l.n; ++m) {
+                    rgb g = rgb_scale(l.a[m], reference_gn(p->beta_n, remainder(x - l.delta[m], PLM_TWO_PI), 1));
+                    int cls = l.slot[m] > 0;
+                    value[k][j][cls] = rgb_add(value[k][j][cls], g);
+                    energy[k][j] = rgb_add(energy[k][j], l.a[m]);
+                }
+            }
+        }
+    }
+    double gm = reference_gm(p->beta_m, -v.theta_o, theta_i) / (ct * ct * strata);
+    /* The levels' energies (phi_o blended), lin-ft's and quad-cos's blends of them. */
+    rgb el[4], elin = rgb_gray(0.0), equad = rgb_gray(0.0);
+    double wlin[4], wquad[4];
+    study_weights(LIN_FT, 0, it, n, xs, qx, wlin);
+    study_weights(QUAD_COS, 0, it, n, xs, qx, wquad);
+    for (int k = 0; k < 4; ++k) {
+        el[k] = rgb_add(rgb_scale(energy[k][0], 1.0 - fp), rgb_scale(energy[k][1], fp));
+        elin = rgb_add(elin, rgb_scale(el[k], wlin[k]));
+        equad = rgb_add(equad, rgb_scale(el[k], wquad[k]));
+    }
+    for (int e = 0; e < STUDY_ESTIMATORS; ++e) {
+        double wt[2][4];
+        for (int cls = 0; cls < 2; ++cls)
+            study_weights(e, cls, it, n, xs, qx, wt[cls]);
+        int from73 = e == EFRAC_COS_73 || e == ESCALE_COS_73 || e == ESCALE_RGB_73;
+        rgb scale = rgb_gray(1.0);
+        if (e >= EFRAC_COS && (!from73 || it >= n - 4)) {
+            double e1 = rgb_mean(el[1]), e2 = rgb_mean(el[2]), eq = fmax(rgb_mean(equad), 0.0);
+            if (e == EFRAC_COS || e == EFRAC_COS_73) {
+                if (fabs(e2 - e1) > 1e-3 * fmax(e1, e2)) {
+                    double f = plm_clamp((eq - e1) / (e2 - e1), 0.0, 1.0);
+                    for (int cls = 0; cls < 2; ++cls)
+                        wt[cls][1] = 1.0 - f, wt[cls][2] = f;
+                }
+            } else if (e == ESCALE_RGB_73) {
+                scale.r = elin.r > 0.0 ? fmax(equad.r, 0.0) / elin.r : 1.0;
+                scale.g = elin.g > 0.0 ? fmax(equad.g, 0.0) / elin.g : 1.0;
+                scale.b = elin.b > 0.0 ? fmax(equad.b, 0.0) / elin.b : 1.0;
+            } else {
+                scale = rgb_gray(rgb_mean(elin) > 0.0 ? eq / rgb_mean(elin) : 1.0);
+            }
+        }
+        for (int cls = 0; cls < 2; ++cls)
+            for (int k = 0; k < 4; ++k)
+                if (wt[cls][k] != 0.0)
+                    for (int j = 0; j < 2; ++j)
+                        est[e] = rgb_add(est[e], rgb_scale(value[k][j][cls], gm * wt[cls][k] * (j ? fp : 1.0 - fp)));
+        est[e] = rgb_mul(est[e], scale);
+        if (e == QUAD_COS_73_CLAMPED)
+            est[e] = (rgb){fmax(est[e].r, 0.0), fmax(est[e].g, 0.0), fmax(est[e].b, 0.0)};
+    }
+}
+
 static void query_work(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes)
 {
     (void)scratch;
@@ -306,14 +520,17 @@ static void query_work(void *ctx, int item, double *scratch, plm_fiber_lobe *lob
     query_result *r = &hs->result[item];
     r->ref = reference_eval(&hs->t->params, q.wo, q.hmin, q.hmax, q.wi, REFERENCE_STRATA);
     r->est[TABLE] = table_part_eval(hs->t, q.wo, q.hmin, q.hmax, q.wi);
-    node_estimates(hs->layout, q, hs->strata, lobes, r);
+    if (hs->study)
+        study_estimates(hs->layout, q, hs->strata, lobes, r->est + 1);
+    else
+        node_estimates(hs->layout, q, hs->strata, lobes, r);
 }
 
 static double channel(rgb c, int ch) { return ch == 0 ? c.r : ch == 1 ? c.g : c.b; }
 
 /* Prints each estimator's relative L2 per channel over the n queries and,
  * for its worst channel, the shares of the squared error. */
-static void report(const char *name, int uniform, const stats_query *query, const query_result *r, int n)
+static void report(const char *name, int uniform, const stats_query *query, const query_result *r, int n, int study)
 {
     int grazing_queries = 0, missing_queries = 0;
     for (int i = 0; i < n; ++i) {
@@ -322,9 +539,11 @@ static void report(const char *name, int uniform, const stats_query *query, cons
     }
     fprintf(stderr, "%-28s wi %-8s %d queries, %d beyond 78 deg, %d with over 1%% of the energy in slots missing at a "
                     "node\n", name, uniform ? "uniform" : "at lobes", n, grazing_queries, missing_queries);
-    for (int e = 0; e < ESTIMATORS; ++e) {
+    for (int e = 0; e < (study ? 1 + STUDY_ESTIMATORS : ESTIMATORS); ++e) {
         char estimator[32];
-        if (e < DISPLACED || e >= TRUE_WEIGHTS)
+        if (study)
+            snprintf(estimator, sizeof estimator, "%s", e == 0 ? "table" : study_names[e - 1]);
+        else if (e < DISPLACED || e >= TRUE_WEIGHTS)
             snprintf(estimator, sizeof estimator, "%s",
                      e == TABLE ? "table" : e == VALUES ? "values" : e == TRUE_WEIGHTS ? "true weights" : "true places");
         else
@@ -332,7 +551,9 @@ static void report(const char *name, int uniform, const stats_query *query, cons
                      mode_names[(e - DISPLACED) % MODES]);
         double num[3] = {0, 0, 0}, den[3] = {0, 0, 0}, grazing[3] = {0, 0, 0}, missing[3] = {0, 0, 0};
         double worst[3] = {0, 0, 0};
-        int worst_q[3] = {0, 0, 0};
+        int worst_q[3] = {0, 0, 0}, negative = 0;
+        for (int i = 0; i < n; ++i)
+            negative += r[i].est[e].r < 0.0 || r[i].est[e].g < 0.0 || r[i].est[e].b < 0.0;
         for (int i = 0; i < n; ++i)
             for (int ch = 0; ch < 3; ++ch) {
                 double d2 = plm_sqr(channel(r[i].est[e], ch) - channel(r[i].ref, ch));
@@ -356,12 +577,13 @@ static void report(const char *name, int uniform, const stats_query *query, cons
         double all = num[c] > 0.0 ? num[c] : 1.0;
         const stats_query *wq = &query[worst_q[c]];
         fprintf(stderr,
-                "%-28s wi %-8s %-12s relative L2 %.4f %.4f %.4f; channel %d's squared error: beyond 78 deg %3.0f%%, "
-                "slots missing %3.0f%%, worst query %3.0f%% (theta_o %.1f deg, h [%.3f, %.3f], ref %.4g, est %.4g)\n",
+                "%-28s wi %-8s %-15s relative L2 %.4f %.4f %.4f; channel %d's squared error: beyond 78 deg %3.0f%%, "
+                "slots missing %3.0f%%, worst query %3.0f%% (theta_o %.1f deg, h [%.3f, %.3f], ref %.4g, est %.4g)"
+                "%s%d\n",
                 name, uniform ? "uniform" : "at lobes", estimator, err[0], err[1], err[2], c,
                 100.0 * grazing[c] / all, 100.0 * missing[c] / all, 100.0 * worst[c] / all,
                 plm_degrees(asin(wq->wo.z)), wq->hmin, wq->hmax, channel(r[worst_q[c]].ref, c),
-                channel(r[worst_q[c]].est[e], c));
+                channel(r[worst_q[c]].est[e], c), negative ? "; negative " : "", negative);
     }
 }
 
@@ -373,7 +595,15 @@ typedef struct run_options {
     int strata;    /* the estimators' h strata */
     int refine[2]; /* the estimators' nodes per the table's, in |theta_o| and phi_o */
     int draw;      /* 0: slow_fiber_table's queries; else other queries, from stream (draw, fiber) */
+    int study;     /* 1: the |theta_o| blending study */
 } run_options;
+
+/* The generator's state after each fiber's medulla reference (which only
+ * consumes draws here), kept in the file PROTO_ORACLE_RNG names, if set:
+ * a run that finds the file skips the replays (minutes of CPU time). */
+enum { FIBERS = PLM_FIBER_FIGURE7_VARIANTS + 8 };
+static plm_rng after_medulla[FIBERS];
+static int after_medulla_loaded;
 
 static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rng *rng, const run_options *ro)
 {
@@ -407,19 +637,22 @@ static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rn
         plm_rng_seed(&other, (uint64_t)ro->draw, (uint64_t)(2 * index + uniform));
         for (int i = 0; i < QUERIES && ro->draw > 0; ++i)
             query[i] = error_query(p, &other, uniform);
-        harness hs = {t, &layout, query, result, ro->strata};
+        harness hs = {t, &layout, query, result, ro->strata, ro->study};
         double started = plm_fiber_seconds();
         assert_true(plm_fiber_parallel(query_work, &hs, ro->queries, sizeof(double), p->lobes, &o, name, started));
-        report(name, uniform, query, result, ro->queries);
+        report(name, uniform, query, result, ro->queries, ro->study);
         fprintf(stderr, "%-28s table %d x %d nodes, estimators %d x %d, %d strata, %.0f s\n", name, t->theta_nodes,
                 t->phi_nodes, layout.theta_nodes, layout.phi_nodes, ro->strata, plm_fiber_seconds() - started);
     }
-    if (t && t->medulla.res.theta_nodes > 0) {
+    if (t && t->medulla.res.theta_nodes > 0 && after_medulla_loaded) {
+        *rng = after_medulla[index];
+    } else if (t && t->medulla.res.theta_nodes > 0) {
         double e[3], noise[3];
         double started = plm_fiber_seconds();
         medulla_error(t, rng, 8, 64, 100000, e, noise);
         fprintf(stderr, "%-28s medulla reference replayed, %.0f s\n", name, plm_fiber_seconds() - started);
     }
+    after_medulla[index] = *rng;
     free(query);
     free(result);
     plm_fiber_table_free(t);
@@ -428,14 +661,21 @@ static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rn
 int main(int argc, char **argv)
 {
     run_options ro = {argc > 1 ? atoi(argv[1]) : QUERIES, argc > 2 ? atoi(argv[2]) : 2000,
-                      {argc > 3 ? atoi(argv[3]) : 1, argc > 4 ? atoi(argv[4]) : 1}, argc > 5 ? atoi(argv[5]) : 0};
+                      {argc > 3 ? atoi(argv[3]) : 1, argc > 4 ? atoi(argv[4]) : 1}, argc > 5 ? atoi(argv[5]) : 0,
+                      argc > 6 ? atoi(argv[6]) : 0};
     if (ro.queries < 1 || ro.queries > QUERIES || ro.strata < 1 || ro.refine[0] < 1 || ro.refine[0] > 8 ||
-        ro.refine[1] < 1 || ro.refine[1] > 8 || ro.draw < 0) {
+        ro.refine[1] < 1 || ro.refine[1] > 8 || ro.draw < 0 || ro.study < 0 || ro.study > 1) {
         fprintf(stderr,
                 "usage: %s [queries (1-%d) [strata (at least 1) [theta_o and phi_o node refinement (1-8) [draw (0: "
-                "slow_fiber_table's queries)]]]]\n",
+                "slow_fiber_table's queries) [study (1: the theta_o blending study)]]]]]\n",
                 argv[0], QUERIES);
         return 2;
+    }
+    const char *states = getenv("PROTO_ORACLE_RNG");
+    FILE *f = states ? fopen(states, "rb") : NULL;
+    if (f) {
+        after_medulla_loaded = fread(after_medulla, sizeof after_medulla, 1, f) == 1;
+        fclose(f);
     }
     plm_rng rng; /* slow_fiber_table's figure7_fibers */
     plm_rng_seed(&rng, 2024, 7);
@@ -452,6 +692,10 @@ int main(int argc, char **argv)
             continue;
         fiber(&p, name, PLM_FIBER_FIGURE7_VARIANTS + i, &rng, &ro);
         ++i;
+    }
+    if (states && !after_medulla_loaded && (f = fopen(states, "wb")) != NULL) {
+        fwrite(after_medulla, sizeof after_medulla, 1, f);
+        fclose(f);
     }
     return 0;
 }
