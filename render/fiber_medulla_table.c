@@ -199,8 +199,11 @@ plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
         return PLM_OK;
     m->h_node = plm_fiber_h_nodes(m->res.h_cells);
     m->band_scale = malloc(sizeof(double) * (size_t)m->res.theta_bins);
-    if (!m->h_node || !m->band_scale)
+    m->node_cos = malloc(sizeof(double) * (size_t)m->res.theta_nodes);
+    if (!m->h_node || !m->band_scale || !m->node_cos)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
+    for (int k = 0; k < m->res.theta_nodes; ++k)
+        m->node_cos[k] = cos(plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, k));
     double w = HALF_PI / m->res.theta_bins;
     for (int a = 0; a < m->res.theta_bins; ++a)
         m->band_scale[a] = m->per_theta ? 1.0 : w / (sin((a + 1) * w) - sin(a * w));
@@ -211,8 +214,10 @@ void plm_fiber_medulla_release(plm_fiber_medulla_table *m)
 {
     free(m->h_node);
     free(m->band_scale);
+    free(m->node_cos);
     m->h_node = NULL;
     m->band_scale = NULL;
+    m->node_cos = NULL;
 }
 
 double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_theta, double cos_theta)
@@ -1037,6 +1042,28 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
                                                       : n - 1.0;
     plm_fiber_corners(m->symmetry, n, m->res.phi_nodes, m->phi_lo, m->phi_step, ft, v->phi, nodes, w);
     if (m->factored) {
+        /* The blend scaled as the other part's (render/fiber_table.c's
+         * energy_scale): by the interval's energy at three |theta_o| nodes,
+         * interpolated quadratically in cos(|theta_o|), over the linear
+         * blend's. Both parts alike, so that a white fiber's energies still
+         * add up where they share their nodes. */
+        int first = plm_fiber_energy_first(n, ft);
+        if (first >= 0) {
+            int ip[2] = {nodes[0] % m->res.phi_nodes, nodes[1] % m->res.phi_nodes};
+            double fp = w[0] + w[1] > 0.0 ? w[1] / (w[0] + w[1]) : w[3] / (w[2] + w[3]), e[3];
+            plm_fiber_medulla_query level;
+            level.table = m;
+            for (int k = 0; k < 3; ++k) {
+                int ln[4] = {(first + k) * m->res.phi_nodes + ip[0], (first + k) * m->res.phi_nodes + ip[1]};
+                ln[2] = ln[0], ln[3] = ln[1];
+                double lw[4] = {1.0 - fp, fp, 0.0, 0.0};
+                factored_prepare(m, v, ln, lw, &level);
+                e[k] = level.total;
+            }
+            double scale = plm_fiber_energy_scale(m->node_cos, n, ft, v->cos_theta, e);
+            for (int c = 0; c < 4; ++c)
+                w[c] *= scale;
+        }
         factored_prepare(m, v, nodes, w, q);
         return;
     }

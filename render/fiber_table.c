@@ -461,16 +461,20 @@ plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
     t->data = malloc(sizeof(float) * t->floats);
     t->h_node = plm_fiber_h_nodes(t->h_cells);
     t->h_node_grazing = t->grazing_nodes > 0 ? plm_fiber_h_nodes(t->grazing_cells) : NULL;
+    t->node_cos = malloc(sizeof(double) * (size_t)t->theta_nodes);
+    for (int k = 0; t->node_cos && k < t->theta_nodes; ++k)
+        t->node_cos[k] = cos(node_theta(t, k));
     if (t->data)
         t->medulla.data = t->data + (t->floats - t->medulla.floats);
-    if (!t->data || !t->h_node || (t->grazing_nodes > 0 && !t->h_node_grazing) ||
+    if (!t->data || !t->h_node || (t->grazing_nodes > 0 && !t->h_node_grazing) || !t->node_cos ||
         plm_fiber_medulla_alloc(&t->medulla, err) != PLM_OK) {
         free(t->data);
         free(t->h_node);
         free(t->h_node_grazing);
+        free(t->node_cos);
         plm_fiber_medulla_release(&t->medulla);
         t->data = NULL;
-        t->h_node = t->h_node_grazing = NULL;
+        t->h_node = t->h_node_grazing = t->node_cos = NULL;
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory (%zu MB)",
                         sizeof(float) * t->floats >> 20);
     }
@@ -484,6 +488,7 @@ void plm_fiber_table_free(plm_fiber_table *t)
     free(t->data);
     free(t->h_node);
     free(t->h_node_grazing);
+    free(t->node_cos);
     plm_fiber_medulla_release(&t->medulla);
     free(t);
 }
@@ -636,6 +641,35 @@ void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_
     w[0] = (1 - ft) * (1 - fp), w[1] = (1 - ft) * fp, w[2] = ft * (1 - fp), w[3] = ft * fp;
 }
 
+int plm_fiber_energy_first(int theta_nodes, double ft)
+{
+    if (theta_nodes < 3)
+        return -1;
+    int it = (int)ft;
+    it = it >= theta_nodes - 1 ? theta_nodes - 2 : it;
+    return it >= 1 ? it - 1 : it;
+}
+
+double plm_fiber_energy_scale(const double *node_cos, int theta_nodes, double ft, double cos_theta, const double e[3])
+{
+    int it = (int)ft, first = plm_fiber_energy_first(theta_nodes, ft);
+    it = it >= theta_nodes - 1 ? theta_nodes - 2 : it;
+    double f = ft - it, x = fmax(cos_theta, node_cos[theta_nodes - 1]), quad = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double l = 1.0; /* Lagrange's weight of node first + k at x */
+        for (int m = 0; m < 3; ++m)
+            if (m != k)
+                l *= (x - node_cos[first + m]) / (node_cos[first + k] - node_cos[first + m]);
+        quad += l * e[k];
+    }
+    /* Not beyond the two nodes' energies: the quadratic overshoots where the
+     * energy's slope changes abruptly between nodes (a white fiber's parts
+     * both stay within theirs, so that their sum is kept). */
+    double lo = e[it - first], hi = e[it + 1 - first], lin = (1.0 - f) * lo + f * hi;
+    quad = plm_clamp(quad, fmin(lo, hi), fmax(lo, hi));
+    return lin > 0.0 ? plm_positive(quad) / lin : 1.0;
+}
+
 int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
                     const plm_fiber_h_rows *rows, const float **term, double *coef, int *node_end)
 {
@@ -756,6 +790,46 @@ static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, c
     }
 }
 
+/* The interval's energy (mean of RGB) at |theta_o| node `level` between
+ * its phi_o nodes ip[0], ip[1] (fraction fp): its rows' last columns. Only
+ * for tables without lobe records (their rows run over the whole interval). */
+static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, int level, const int ip[2], double fp)
+{
+    plm_fiber_h_rows rows;
+    plm_fiber_interval_rows(bounds_at(t, level), cells_at(t, level), v, &rows);
+    double e = 0.0;
+    for (int j = 0; j < 2; ++j) {
+        double wj = j ? fp : 1.0 - fp;
+        if (!(wj > 0.0))
+            continue;
+        const float *node = node_data(t, level * t->phi_nodes + ip[j]);
+        for (int r = 0; r < rows.n; ++r)
+            if (rows.row[r] > 0)
+                e += wj * rows.coef[r] * node[row_floats(t) * (size_t)rows.row[r] + 3 * (size_t)t->phi_bins];
+    }
+    return e;
+}
+
+/* Without lobe records (elliptical cortex or off-centre medulla), the
+ * factor by which the four corners' bilinear blend is scaled: the
+ * interval's energy interpolated quadratically in cos(|theta_o|) through
+ * three |theta_o| nodes (the two around the view and the one below, the
+ * one above for the first pair) over the energy of the linear blend. The
+ * lobes' weights change nonlinearly between nodes toward grazing views,
+ * the reflection rising and the light through the cortex falling; the
+ * scale fixes the blend's energy and leaves its shape (docs/fiber.md). */
+static double energy_scale(const plm_fiber_table *t, const plm_fiber_view *v, double ft)
+{
+    int ip[2], first = plm_fiber_energy_first(t->theta_nodes, ft);
+    double e[3], fp;
+    if (first < 0)
+        return 1.0;
+    plm_fiber_phi_weights(t->symmetry, t->phi_nodes, t->phi_lo, t->phi_step, v->phi, ip, &fp);
+    for (int k = 0; k < 3; ++k)
+        e[k] = level_energy(t, v, first + k, ip, fp);
+    return plm_fiber_energy_scale(t->node_cos, t->theta_nodes, ft, v->cos_theta, e);
+}
+
 static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm_fiber_table_query *q)
 {
     q->theta_o = v->theta_o;
@@ -767,6 +841,11 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     int nodes[4];
     double w[4];
     plm_fiber_corners(t->symmetry, t->theta_nodes, t->phi_nodes, t->phi_lo, t->phi_step, ft, v->phi, nodes, w);
+    if (t->lobe_slots == 0 && !t->limit_node) {
+        double scale = energy_scale(t, v, ft);
+        for (int c = 0; c < 4; ++c)
+            w[c] *= scale;
+    }
     plm_fiber_h_rows rows = {.n = 0};
     q->moving_count = 0;
     if (t->lobe_slots > 0)

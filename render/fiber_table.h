@@ -66,6 +66,8 @@ typedef struct plm_fiber_table {
     int grazing_nodes, grazing_cells;
     double *h_node;    /* h_cells + 1 cell bounds, uniform in asin(h) */
     double *h_node_grazing; /* grazing_cells + 1 (NULL without grazing nodes) */
+    double *node_cos;  /* cos(|theta_o|) of each |theta_o| node (tables without lobe records scale their
+                        * blend by the interval's energy interpolated in it; docs/fiber.md) */
     float *data;       /* per node, rows 0..its h cells, columns 0..phi_bins, (mean of RGB, R, G), then per
                         * cell bound the lobe records (Delta_k, A_k RGB) and a flag (docs/fiber.md); then
                         * the medulla part's */
@@ -138,6 +140,14 @@ typedef struct plm_fiber_h_rows {
  * mostly rounding near one. */
 #define PLM_FIBER_POINT_WIDTH 1e-9
 void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *rows);
+/* The blend's energy scale of tables without lobe records (docs/fiber.md):
+ * the first of the three |theta_o| nodes through which the interval's
+ * energy is interpolated at node coordinate ft (-1: fewer than three
+ * nodes), and the scale from their energies e[0..2] (mean of RGB): the
+ * quadratic through them in cos(|theta_o|) at cos_theta (not past the last
+ * node) over the linear blend of the two nodes around ft, 1 if that is 0. */
+int plm_fiber_energy_first(int theta_nodes, double ft);
+double plm_fiber_energy_scale(const double *node_cos, int theta_nodes, double ft, double cos_theta, const double e[3]);
 void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
                        double phi, int nodes[4], double w[4]);
 int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],

@@ -106,16 +106,18 @@ typedef struct lobe_list {
  *                are within 1e-3 of each other), clamped to [0, 1]
  *   escale-cos   lin-ft times quad-cos's energy over lin-ft's (clamped at
  *                0; per channel in escale-rgb)
+ *   escale-cos-lim  escale-cos with quad-cos's energy kept between the two
+ *                nodes' (the table's energy scale)
  *   "-73": from the node at 73 deg up only (lin-ft elsewhere) */
 enum {
     LIN_FT, LIN_THETA, LIN_COS, LIN_COS2, LIN_U2, MIX, QUAD_FT, QUAD_COS, QUAD_U, QUAD_COS_UP, CUBIC_COS,
     QUAD_COS_73, QUAD_COS_LAST, SPLIT_FT_COS2, SPLIT_COS_COS2, QUAD_COS_73_CLAMPED, EFRAC_COS, EFRAC_COS_73,
-    ESCALE_COS, ESCALE_COS_73, ESCALE_RGB_73, STUDY_ESTIMATORS
+    ESCALE_COS, ESCALE_COS_73, ESCALE_RGB_73, ESCALE_COS_LIMITED, STUDY_ESTIMATORS
 };
 static const char *const study_names[STUDY_ESTIMATORS] = {
     "lin-ft", "lin-theta", "lin-cos", "lin-cos2", "lin-u2", "mix", "quad-ft", "quad-cos", "quad-u", "quad-cos-up",
     "cubic-cos", "quad-cos-73", "quad-cos-last", "R ft, int cos2", "R cos, int cos2", "quad-cos-73 >=0", "efrac-cos",
-    "efrac-cos-73", "escale-cos", "escale-cos-73", "escale-rgb-73"};
+    "efrac-cos-73", "escale-cos", "escale-cos-73", "escale-rgb-73", "escale-cos-lim"};
 enum { MOST_ESTIMATORS = 2 + STUDY_ESTIMATORS > ESTIMATORS ? 2 + STUDY_ESTIMATORS : ESTIMATORS };
 
 typedef struct query_result {
@@ -487,6 +489,8 @@ static void study_estimates(const plm_fiber_table *t, stats_query q, int strata,
         rgb scale = rgb_gray(1.0);
         if (e >= EFRAC_COS && (!from73 || it >= n - 4)) {
             double e1 = rgb_mean(el[1]), e2 = rgb_mean(el[2]), eq = fmax(rgb_mean(equad), 0.0);
+            if (e == ESCALE_COS_LIMITED)
+                eq = plm_clamp(eq, fmin(e1, e2), fmax(e1, e2));
             if (e == EFRAC_COS || e == EFRAC_COS_73) {
                 if (fabs(e2 - e1) > 1e-3 * fmax(e1, e2)) {
                     double f = plm_clamp((eq - e1) / (e2 - e1), 0.0, 1.0);

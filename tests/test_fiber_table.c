@@ -469,9 +469,11 @@ static void moving_lobes_sampling_matches_pdf(void **state)
 /* Finer h cells at the grazing |theta_o| nodes (docs/fiber.md): a view
  * between the last node of the coarse cells and the first of the fine ones
  * (at a phi_o node), so that a query blends rows of both. For a white
- * elliptical fiber its eval cos integrates to the two nodes' lobe energies
- * over the interval blended with the view's weights (each traced, 4000
- * strata), its pdf to 1, and sampling has the density pdf says. */
+ * elliptical fiber its eval cos integrates to the lobe energies over the
+ * interval as the table blends them (each node's traced, 4000 strata):
+ * the quadratic in cos(theta_o) through the two nodes and the one below
+ * (the bilinear blend scaled to its energy), its pdf to 1, and sampling
+ * has the density pdf says. */
 static void grazing_cells_integrate_and_sample(void **state)
 {
     (void)state;
@@ -484,21 +486,27 @@ static void grazing_cells_integrate_and_sample(void **state)
     assert_int_equal(t->grazing_nodes, 2);
     double theta4 = plm_fiber_node_theta(p.eta, t->u_last, t->theta_max, 7, 4);
     double theta5 = plm_fiber_node_theta(p.eta, t->u_last, t->theta_max, 7, 5), theta = 0.5 * (theta4 + theta5);
+    double theta3 = plm_fiber_node_theta(p.eta, t->u_last, t->theta_max, 7, 3);
     double f = plm_fiber_theta_coordinate(p.eta, t->u_last, t->theta_max, 7, theta, sin(theta), cos(theta)) - 4.0;
+    /* Lagrange's weights in cos(theta_o) of nodes 3, 4 and 5 at theta. */
+    double c = cos(theta), c3 = cos(theta3), c4 = cos(theta4), c5 = cos(theta5);
+    double l3 = (c - c4) * (c - c5) / ((c3 - c4) * (c3 - c5)), l4 = (c - c3) * (c - c5) / ((c4 - c3) * (c4 - c5));
+    double l5 = (c - c3) * (c - c4) / ((c5 - c3) * (c5 - c4));
     const double interval[N_TESTS][2] = {{-0.83, -0.41}, {0.2, 0.26}};
     plm_rng rng;
     plm_rng_seed(&rng, 8, 2);
     for (int i = 0; i < N_TESTS; ++i) {
         double phi = t->phi_lo + (1 + i) * t->phi_step, hmin = interval[i][0], hmax = interval[i][1];
-        double energy = (1.0 - f) * white_energy(&p, plm_fiber_direction(theta4, phi), hmin, hmax) +
-                        f * white_energy(&p, plm_fiber_direction(theta5, phi), hmin, hmax);
+        double energy = l3 * white_energy(&p, plm_fiber_direction(theta3, phi), hmin, hmax) +
+                        l4 * white_energy(&p, plm_fiber_direction(theta4, phi), hmin, hmax) +
+                        l5 * white_energy(&p, plm_fiber_direction(theta5, phi), hmin, hmax);
         plm_fiber_bcsdf b;
         plm_fiber_bcsdf_prepare(&p, t, plm_fiber_direction(theta, phi), hmin, hmax, NULL, &b);
         double integral, pdf;
         furnace_integrals(&b, &integral, &pdf);
         double pv = bcsdf_chi_square(&b, &rng, 300000);
         fprintf(stderr, "grazing cells, theta_o %.1f deg (%.2f of the way), h in [%.2f, %.2f]: integral %.5f, "
-                        "blended lobe energy %.5f, pdf %.5f, chi-square p-value %.4f\n",
+                        "interpolated lobe energy %.5f, pdf %.5f, chi-square p-value %.4f\n",
                 plm_degrees(theta), f, hmin, hmax, integral, energy, pdf, pv);
         assert_double_near(integral, energy, 2e-3 * energy);
         assert_double_near(pdf, 1.0, 2e-3);
