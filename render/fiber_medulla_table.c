@@ -200,7 +200,9 @@ plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
     m->h_node = plm_fiber_h_nodes(m->res.h_cells);
     m->band_scale = malloc(sizeof(double) * (size_t)m->res.theta_bins);
     m->node_cos = malloc(sizeof(double) * (size_t)m->res.theta_nodes);
-    if (!m->h_node || !m->band_scale || !m->node_cos)
+    m->bound_energy = m->factored ? malloc(sizeof(double) * (size_t)node_count(m) * (size_t)(m->res.h_cells + 1))
+                                  : NULL;
+    if (!m->h_node || !m->band_scale || !m->node_cos || (m->factored && !m->bound_energy))
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
     for (int k = 0; k < m->res.theta_nodes; ++k)
         m->node_cos[k] = cos(plm_fiber_node_theta(m->eta, m->u_last, m->theta_max, m->res.theta_nodes, k));
@@ -210,14 +212,33 @@ plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
     return PLM_OK;
 }
 
+void plm_fiber_medulla_bound_energies(plm_fiber_medulla_table *m)
+{
+    if (m->res.theta_nodes == 0 || !m->factored)
+        return;
+    int P = m->res.points;
+    const float *energy = point_energy(m);
+    for (int node = 0; node < node_count(m); ++node)
+        for (int j = 0; j <= m->res.h_cells; ++j) {
+            const float *row = node_light(m, node) + light_row(m) * (size_t)j;
+            double sum = 0.0;
+            for (int ch = 0; ch < 3; ++ch)
+                for (int k = 0; k < P; ++k)
+                    sum += (double)row[ch * P + k] * energy[ch * P + k];
+            m->bound_energy[(size_t)node * (m->res.h_cells + 1) + j] = sum / 3.0;
+        }
+}
+
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m)
 {
     free(m->h_node);
     free(m->band_scale);
     free(m->node_cos);
+    free(m->bound_energy);
     m->h_node = NULL;
     m->band_scale = NULL;
     m->node_cos = NULL;
+    m->bound_energy = NULL;
 }
 
 double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_theta, double cos_theta)
@@ -1049,16 +1070,20 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
          * add up where they share their nodes. */
         int first = plm_fiber_energy_first(n, ft);
         if (first >= 0) {
-            int ip[2] = {nodes[0] % m->res.phi_nodes, nodes[1] % m->res.phi_nodes};
+            /* Each node's energy from its light rows' (bound_energy), the
+             * partial cells' taken as spread evenly (the other part's rows
+             * do the same; the scale is a ratio). */
+            int ip[2] = {nodes[0] % m->res.phi_nodes, nodes[1] % m->res.phi_nodes}, bounds = m->res.h_cells + 1;
             double fp = w[0] + w[1] > 0.0 ? w[1] / (w[0] + w[1]) : w[3] / (w[2] + w[3]), e[3];
-            plm_fiber_medulla_query level;
-            level.table = m;
+            plm_fiber_h_rows rows;
+            plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, &rows);
             for (int k = 0; k < 3; ++k) {
-                int ln[4] = {(first + k) * m->res.phi_nodes + ip[0], (first + k) * m->res.phi_nodes + ip[1]};
-                ln[2] = ln[0], ln[3] = ln[1];
-                double lw[4] = {1.0 - fp, fp, 0.0, 0.0};
-                factored_prepare(m, v, ln, lw, &level);
-                e[k] = level.total;
+                e[k] = 0.0;
+                for (int j = 0; j < 2; ++j) {
+                    const double *b = m->bound_energy + (size_t)((first + k) * m->res.phi_nodes + ip[j]) * bounds;
+                    for (int r = 0; r < rows.n; ++r)
+                        e[k] += (j ? fp : 1.0 - fp) * rows.coef[r] * b[rows.row[r]];
+                }
             }
             double scale = plm_fiber_energy_scale(m->node_cos, n, ft, v->cos_theta, e);
             for (int c = 0; c < 4; ++c)

@@ -59,6 +59,8 @@ typedef struct plm_fiber_medulla_table {
     double *h_node; /* h_cells + 1 cell bounds (over s or h) */
     double *node_cos; /* cos(|theta_o|) of each |theta_o| node (factored tables scale their blend by the
                        * interval's energy interpolated in it, as the other part does; docs/fiber.md) */
+    double *bound_energy; /* factored tables: per node and h cell bound, the energy (mean of RGB) its light row
+                           * gives the points (plm_fiber_medulla_bound_energies) */
     /* What eval interpolates between bin centres: 1, each bin's mass per unit
      * theta_i (bands narrower than beta_m); 0, its density per solid angle
      * (docs/fiber.md). band_scale: per |theta_i| band, what turns its mass
@@ -81,6 +83,8 @@ typedef struct plm_fiber_medulla_table {
 void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
                               plm_fiber_medulla_table *m);
 /* The h cell bounds and the bands' scales (data is the caller's). */
+/* A factored table's bound_energy, from its data (once built or read). */
+void plm_fiber_medulla_bound_energies(plm_fiber_medulla_table *m);
 plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err);
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
 /* Fills m->data (deterministically) on the threads of o, a

@@ -456,25 +456,46 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
     return PLM_OK;
 }
 
+/* Node `node`'s first entry in bound_energy (its bounds follow, as its rows do). */
+static size_t node_bounds(const plm_fiber_table *t, int node)
+{
+    int it = node / t->phi_nodes;
+    return level_start(t, it) / bound_floats(t) + (size_t)(cells_at(t, it) + 1) * (size_t)(node % t->phi_nodes);
+}
+
+void plm_fiber_table_bound_energies(plm_fiber_table *t)
+{
+    for (int node = 0; t->lobe_slots == 0 && node < t->theta_nodes * t->phi_nodes; ++node)
+        for (int j = 0; j <= cells_at(t, node / t->phi_nodes); ++j)
+            t->bound_energy[node_bounds(t, node) + (size_t)j] =
+                node_data(t, node)[row_floats(t) * (size_t)j + 3 * (size_t)t->phi_bins];
+    plm_fiber_medulla_bound_energies(&t->medulla);
+}
+
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
 {
     t->data = malloc(sizeof(float) * t->floats);
     t->h_node = plm_fiber_h_nodes(t->h_cells);
     t->h_node_grazing = t->grazing_nodes > 0 ? plm_fiber_h_nodes(t->grazing_cells) : NULL;
     t->node_cos = malloc(sizeof(double) * (size_t)t->theta_nodes);
+    t->bound_energy = t->lobe_slots == 0 ? malloc(sizeof(float) * (level_start(t, t->theta_nodes) / bound_floats(t)))
+                                         : NULL;
     for (int k = 0; t->node_cos && k < t->theta_nodes; ++k)
         t->node_cos[k] = cos(node_theta(t, k));
     if (t->data)
         t->medulla.data = t->data + (t->floats - t->medulla.floats);
     if (!t->data || !t->h_node || (t->grazing_nodes > 0 && !t->h_node_grazing) || !t->node_cos ||
+        (t->lobe_slots == 0 && !t->bound_energy) ||
         plm_fiber_medulla_alloc(&t->medulla, err) != PLM_OK) {
         free(t->data);
         free(t->h_node);
         free(t->h_node_grazing);
         free(t->node_cos);
+        free(t->bound_energy);
         plm_fiber_medulla_release(&t->medulla);
         t->data = NULL;
         t->h_node = t->h_node_grazing = t->node_cos = NULL;
+        t->bound_energy = NULL;
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory (%zu MB)",
                         sizeof(float) * t->floats >> 20);
     }
@@ -489,6 +510,7 @@ void plm_fiber_table_free(plm_fiber_table *t)
     free(t->h_node);
     free(t->h_node_grazing);
     free(t->node_cos);
+    free(t->bound_energy);
     plm_fiber_medulla_release(&t->medulla);
     free(t);
 }
@@ -791,8 +813,9 @@ static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, c
 }
 
 /* The interval's energy (mean of RGB) at |theta_o| node `level` between
- * its phi_o nodes ip[0], ip[1] (fraction fp): its rows' last columns. Only
- * for tables without lobe records (their rows run over the whole interval). */
+ * its phi_o nodes ip[0], ip[1] (fraction fp): its rows' last columns, read
+ * from their copies side by side (bound_energy). Only for tables without
+ * lobe records (their rows run over the whole interval). */
 static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, int level, const int ip[2], double fp)
 {
     plm_fiber_h_rows rows;
@@ -802,10 +825,9 @@ static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, in
         double wj = j ? fp : 1.0 - fp;
         if (!(wj > 0.0))
             continue;
-        const float *node = node_data(t, level * t->phi_nodes + ip[j]);
+        const float *b = t->bound_energy + node_bounds(t, level * t->phi_nodes + ip[j]);
         for (int r = 0; r < rows.n; ++r)
-            if (rows.row[r] > 0)
-                e += wj * rows.coef[r] * node[row_floats(t) * (size_t)rows.row[r] + 3 * (size_t)t->phi_bins];
+            e += wj * rows.coef[r] * b[rows.row[r]];
     }
     return e;
 }

@@ -68,6 +68,8 @@ typedef struct plm_fiber_table {
     double *h_node_grazing; /* grazing_cells + 1 (NULL without grazing nodes) */
     double *node_cos;  /* cos(|theta_o|) of each |theta_o| node (tables without lobe records scale their
                         * blend by the interval's energy interpolated in it; docs/fiber.md) */
+    float *bound_energy; /* tables without lobe records: per node and h cell bound, its row's energy (the
+                          * mean channel's last column), together (plm_fiber_table_bound_energies) */
     float *data;       /* per node, rows 0..its h cells, columns 0..phi_bins, (mean of RGB, R, G), then per
                         * cell bound the lobe records (Delta_k, A_k RGB) and a flag (docs/fiber.md); then
                         * the medulla part's */
@@ -88,6 +90,8 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t);
 void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table *t);
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err);
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err);
+/* Both parts' copies of their rows' energies (bound_energy), once the data is built or read. */
+void plm_fiber_table_bound_energies(plm_fiber_table *t);
 
 /* Shared by both parts' tables (fiber_medulla_table.c): h cell bounds
  * uniform in asin(h) (malloc'ed, NULL when out of memory) and the number of

@@ -187,6 +187,7 @@ plm_result plm_fiber_table_get(const plm_fiber_params *p, const plm_fiber_table_
     char path[4096];
     int cached = path_for(t, o, path, sizeof path);
     if (cached && load(t, path)) {
+        plm_fiber_table_bound_energies(t);
         t->from_cache = 1;
         *out = t;
         return PLM_OK;
@@ -195,6 +196,7 @@ plm_result plm_fiber_table_get(const plm_fiber_params *p, const plm_fiber_table_
         plm_fiber_table_free(t);
         return rc;
     }
+    plm_fiber_table_bound_energies(t);
     plm_error save_err;
     /* A cache that cannot be written costs a rebuild next time, nothing more. */
     if (cached && save(t, path, &save_err) != PLM_OK && !(o && o->quiet))
