@@ -200,7 +200,7 @@ plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err)
     m->h_node = plm_fiber_h_nodes(m->res.h_cells);
     m->band_scale = malloc(sizeof(double) * (size_t)m->res.theta_bins);
     m->node_cos = malloc(sizeof(double) * (size_t)m->res.theta_nodes);
-    m->bound_energy = m->factored ? malloc(sizeof(double) * (size_t)node_count(m) * (size_t)(m->res.h_cells + 1))
+    m->bound_energy = m->factored ? malloc(sizeof(float) * (size_t)node_count(m) * (size_t)(m->res.h_cells + 1))
                                   : NULL;
     if (!m->h_node || !m->band_scale || !m->node_cos || (m->factored && !m->bound_energy))
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
@@ -225,7 +225,7 @@ void plm_fiber_medulla_bound_energies(plm_fiber_medulla_table *m)
             for (int ch = 0; ch < 3; ++ch)
                 for (int k = 0; k < P; ++k)
                     sum += (double)row[ch * P + k] * energy[ch * P + k];
-            m->bound_energy[(size_t)node * (m->res.h_cells + 1) + j] = sum / 3.0;
+            m->bound_energy[(size_t)node * (m->res.h_cells + 1) + j] = (float)(sum / 3.0);
         }
 }
 
@@ -1080,7 +1080,7 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
             for (int k = 0; k < 3; ++k) {
                 e[k] = 0.0;
                 for (int j = 0; j < 2; ++j) {
-                    const double *b = m->bound_energy + (size_t)((first + k) * m->res.phi_nodes + ip[j]) * bounds;
+                    const float *b = m->bound_energy + (size_t)((first + k) * m->res.phi_nodes + ip[j]) * bounds;
                     for (int r = 0; r < rows.n; ++r)
                         e[k] += (j ? fp : 1.0 - fp) * rows.coef[r] * b[rows.row[r]];
                 }

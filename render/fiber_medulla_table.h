@@ -59,8 +59,8 @@ typedef struct plm_fiber_medulla_table {
     double *h_node; /* h_cells + 1 cell bounds (over s or h) */
     double *node_cos; /* cos(|theta_o|) of each |theta_o| node (factored tables scale their blend by the
                        * interval's energy interpolated in it, as the other part does; docs/fiber.md) */
-    double *bound_energy; /* factored tables: per node and h cell bound, the energy (mean of RGB) its light row
-                           * gives the points (plm_fiber_medulla_bound_energies) */
+    float *bound_energy; /* factored tables: per node and h cell bound, the energy (mean of RGB) its light row
+                          * gives the points (plm_fiber_medulla_bound_energies) */
     /* What eval interpolates between bin centres: 1, each bin's mass per unit
      * theta_i (bands narrower than beta_m); 0, its density per solid angle
      * (docs/fiber.md). band_scale: per |theta_i| band, what turns its mass

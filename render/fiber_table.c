@@ -518,8 +518,13 @@ void plm_fiber_table_free(plm_fiber_table *t)
 size_t plm_fiber_table_bytes(const plm_fiber_table *t)
 {
     size_t grazing_bounds = t->grazing_nodes > 0 ? (size_t)t->grazing_cells + 1 : 0;
-    return sizeof *t + sizeof(float) * t->floats + sizeof(double) * ((size_t)t->h_cells + 1 + grazing_bounds) +
-           sizeof(double) * (size_t)(t->medulla.res.h_cells + 1);
+    size_t energies = t->lobe_slots == 0 ? level_start(t, t->theta_nodes) / bound_floats(t) : 0; /* bound_energy */
+    size_t medulla_energies = t->medulla.factored ? (size_t)t->medulla.res.theta_nodes * t->medulla.res.phi_nodes *
+                                                        (size_t)(t->medulla.res.h_cells + 1)
+                                                  : 0;
+    return sizeof *t + sizeof(float) * (t->floats + energies + medulla_energies) +
+           sizeof(double) * ((size_t)t->h_cells + 1 + grazing_bounds + (size_t)t->theta_nodes) +
+           sizeof(double) * ((size_t)t->medulla.res.h_cells + 1 + (size_t)t->medulla.res.theta_nodes);
 }
 
 /* ---- queries ------------------------------------------------------------- */
