@@ -82,9 +82,9 @@ typedef struct plm_fiber_medulla_table {
  * floats, given the fiber table's symmetry; r overrides the defaults. */
 void plm_fiber_medulla_layout(const plm_fiber_params *p, int symmetry, const plm_fiber_medulla_resolution *r,
                               plm_fiber_medulla_table *m);
-/* The h cell bounds and the bands' scales (data is the caller's). */
 /* A factored table's bound_energy, from its data (once built or read). */
 void plm_fiber_medulla_bound_energies(plm_fiber_medulla_table *m);
+/* The h cell bounds and the bands' scales (data is the caller's). */
 plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err);
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
 /* Fills m->data (deterministically) on the threads of o, a
