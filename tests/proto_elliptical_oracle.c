@@ -35,7 +35,9 @@
  * oracle's energy, and from the single worst query.
  *
  * Usage: proto_elliptical_oracle [queries [strata [refine_theta
- * [refine_phi [draw]]]]] (defaults 2000, 2000, 1, 1, 0): the first
+ * [refine_phi [draw [study]]]]]] (defaults 2000, 2000, 1, 1, 0, 0; study
+ * 1 runs the |theta_o| blending study below instead of the oracle's
+ * estimators, about 2 minutes a draw at 500 strata): the first
  * `queries` of each kind are evaluated (all are drawn, so the later fibers
  * keep slow_fiber_table's queries); the estimators other than the table
  * use view nodes refine_theta times as dense as the table's in |theta_o|
