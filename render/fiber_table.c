@@ -817,22 +817,41 @@ static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, c
     }
 }
 
+/* The interval's rows in each of a table's two sets of h cells (the
+ * grazing nodes' and the others'), found once per prepare: the energy
+ * scale and the terms read the same ones. */
+typedef struct interval_rows_cache {
+    plm_fiber_h_rows rows[2];
+    int found[2];
+} interval_rows_cache;
+
+static const plm_fiber_h_rows *rows_at(const plm_fiber_table *t, const plm_fiber_view *v, int it,
+                                       interval_rows_cache *cache)
+{
+    int g = grazing(t, it);
+    if (!cache->found[g]) {
+        plm_fiber_interval_rows(bounds_at(t, it), cells_at(t, it), v, &cache->rows[g]);
+        cache->found[g] = 1;
+    }
+    return &cache->rows[g];
+}
+
 /* The interval's energy (mean of RGB) at |theta_o| node `level` between
  * its phi_o nodes ip[0], ip[1] (fraction fp): its rows' last columns, read
  * from their copies side by side (bound_energy). Only for tables without
  * lobe records (their rows run over the whole interval). */
-static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, int level, const int ip[2], double fp)
+static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, int level, const int ip[2], double fp,
+                           interval_rows_cache *cache)
 {
-    plm_fiber_h_rows rows;
-    plm_fiber_interval_rows(bounds_at(t, level), cells_at(t, level), v, &rows);
+    const plm_fiber_h_rows *rows = rows_at(t, v, level, cache);
     double e = 0.0;
     for (int j = 0; j < 2; ++j) {
         double wj = j ? fp : 1.0 - fp;
         if (!(wj > 0.0))
             continue;
         const float *b = t->bound_energy + node_bounds(t, level * t->phi_nodes + ip[j]);
-        for (int r = 0; r < rows.n; ++r)
-            e += wj * rows.coef[r] * b[rows.row[r]];
+        for (int r = 0; r < rows->n; ++r)
+            e += wj * rows->coef[r] * b[rows->row[r]];
     }
     return e;
 }
@@ -845,7 +864,7 @@ static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, in
  * lobes' weights change nonlinearly between nodes toward grazing views,
  * the reflection rising and the light through the cortex falling; the
  * scale fixes the blend's energy and leaves its shape (docs/fiber.md). */
-static double energy_scale(const plm_fiber_table *t, const plm_fiber_view *v, double ft)
+static double energy_scale(const plm_fiber_table *t, const plm_fiber_view *v, double ft, interval_rows_cache *cache)
 {
     int ip[2], first = plm_fiber_energy_first(t->theta_nodes, ft);
     double e[3], fp;
@@ -853,7 +872,7 @@ static double energy_scale(const plm_fiber_table *t, const plm_fiber_view *v, do
         return 1.0;
     plm_fiber_phi_weights(t->symmetry, t->phi_nodes, t->phi_lo, t->phi_step, v->phi, ip, &fp);
     for (int k = 0; k < 3; ++k)
-        e[k] = level_energy(t, v, first + k, ip, fp);
+        e[k] = level_energy(t, v, first + k, ip, fp, cache);
     return plm_fiber_energy_scale(t->node_cos, t->theta_nodes, ft, v->cos_theta, e);
 }
 
@@ -868,18 +887,18 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
     int nodes[4];
     double w[4];
     plm_fiber_corners(t->symmetry, t->theta_nodes, t->phi_nodes, t->phi_lo, t->phi_step, ft, v->phi, nodes, w);
+    interval_rows_cache cache = {.found = {0, 0}};
     if (t->lobe_slots == 0 && !t->limit_node) {
-        double scale = energy_scale(t, v, ft);
+        double scale = energy_scale(t, v, ft, &cache);
         for (int c = 0; c < 4; ++c)
             w[c] *= scale;
     }
-    plm_fiber_h_rows rows = {.n = 0};
+    plm_fiber_h_rows pieces_rows = {.n = 0};
     q->moving_count = 0;
     if (t->lobe_slots > 0)
-        interval_pieces(t, v, nodes, w, &rows, q);
+        interval_pieces(t, v, nodes, w, &pieces_rows, q);
     /* The terms of each |theta_o| node (corners 0, 1 and 2, 3), in its own h
-     * cells: without lobe records the interval's rows within them (found
-     * again only where the cells change). */
+     * cells: without lobe records the interval's rows within them. */
     q->terms = 0;
     for (int level = 0; level < 2; ++level) {
         int it = nodes[2 * level] / t->phi_nodes, local[4];
@@ -888,10 +907,9 @@ static void table_prepare(const plm_fiber_table *t, const plm_fiber_view *v, plm
             local[c] = nodes[c] % t->phi_nodes;
             wl[c] = c / 2 == level ? w[c] : 0.0;
         }
-        if (t->lobe_slots == 0 && (level == 0 || grazing(t, it) != grazing(t, it - 1)))
-            plm_fiber_interval_rows(bounds_at(t, it), cells_at(t, it), v, &rows);
+        const plm_fiber_h_rows *rows = t->lobe_slots > 0 ? &pieces_rows : rows_at(t, v, it, &cache);
         q->terms += plm_fiber_terms(t->data + level_start(t, it), node_floats(t, it), row_floats(t), local, wl,
-                                    &rows, q->term + q->terms, q->coef + q->terms, NULL);
+                                    rows, q->term + q->terms, q->coef + q->terms, NULL);
     }
     q->rows_total = q->terms > 0 ? plm_positive(column_mean(q, t->phi_bins)) : 0.0;
     q->total = q->rows_total;
