@@ -138,6 +138,29 @@ static void atan2_matches_the_library(void **state)
     print_message("atan2: worst %.2f ulp\n", worst);
 }
 
+/* Test point i of asin's and acos's domain, a million of each kind: i / 10^6
+ * = 0 uniform over [-1, 1]; 1 next to one of the nine edges (relative
+ * offsets from 2^-2 down to 2^-51); 2 |x| from 1 down to 2^-1074; 3 1 - |x|
+ * from 2^-1 down to 2^-53. Odd i are negated. */
+static double inverse_sine_point(plm_rng *rng, int i, const double edge[9])
+{
+    double x;
+    switch (i / 1000000) {
+    case 0:
+        x = uniform_in(rng, -1.0, 1.0);
+        break;
+    case 1:
+        x = fmin(edge[i % 9] * (1.0 + ldexp(uniform_in(rng, -1.0, 1.0), -(i % 50) - 2)), 1.0);
+        break;
+    case 2:
+        x = ldexp(uniform_in(rng, 1.0, 2.0), -(i % 1080));
+        break;
+    default:
+        x = 1.0 - ldexp(uniform_in(rng, 1.0, 2.0), -(i % 53) - 1);
+    }
+    return (i & 1) ? -x : x;
+}
+
 /* plm_asin against the C library's asin: within 2 ulp at 3 million
  * deterministic random points, a million each: over [-1, 1]; next to 1/2
  * (where it turns to asin(x) = pi/2 - 2 asin(sqrt((1 - x) / 2))), +-1 and
@@ -159,15 +182,7 @@ static void asin_matches_the_library(void **state)
         edge[2 + k] = sin(ldexp(1.0, -k));
     double worst = 0.0;
     for (int i = 0; i < 3000000; ++i) {
-        double x;
-        if (i < 1000000)
-            x = uniform_in(&rng, -1.0, 1.0);
-        else if (i < 2000000) {
-            double e = edge[i % 9];
-            x = fmin(e * (1.0 + ldexp(uniform_in(&rng, -1.0, 1.0), -(i % 50) - 2)), 1.0);
-        } else
-            x = ldexp(uniform_in(&rng, 1.0, 2.0), -(i % 1080));
-        x = (i & 1) ? -x : x;
+        double x = inverse_sine_point(&rng, i, edge);
         ulp_off(plm_asin(x), asin(x), 2.0, &worst, "asin", x, 0.0);
     }
     print_message("asin: worst %.2f ulp\n", worst);
@@ -196,17 +211,7 @@ static void acos_matches_the_library(void **state)
         edge[2 + k] = cos(ldexp(1.0, 1 - k));
     double worst = 0.0;
     for (int i = 0; i < 4000000; ++i) {
-        double x;
-        if (i < 1000000)
-            x = uniform_in(&rng, -1.0, 1.0);
-        else if (i < 2000000) {
-            double e = edge[i % 9];
-            x = fmin(e * (1.0 + ldexp(uniform_in(&rng, -1.0, 1.0), -(i % 50) - 2)), 1.0);
-        } else if (i < 3000000)
-            x = ldexp(uniform_in(&rng, 1.0, 2.0), -(i % 1080));
-        else
-            x = 1.0 - ldexp(uniform_in(&rng, 1.0, 2.0), -(i % 53) - 1);
-        x = (i & 1) ? -x : x;
+        double x = inverse_sine_point(&rng, i, edge);
         ulp_off(plm_acos(x), acos(x), 2.0, &worst, "acos", x, 0.0);
     }
     print_message("acos: worst %.2f ulp\n", worst);
