@@ -1078,12 +1078,8 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
             plm_fiber_h_rows rows;
             plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, &rows);
             for (int k = 0; k < 3; ++k) {
-                e[k] = 0.0;
-                for (int j = 0; j < 2; ++j) {
-                    const float *b = m->bound_energy + (size_t)((first + k) * m->res.phi_nodes + ip[j]) * bounds;
-                    for (int r = 0; r < rows.n; ++r)
-                        e[k] += (j ? fp : 1.0 - fp) * rows.coef[r] * b[rows.row[r]];
-                }
+                const float *b = m->bound_energy + (size_t)((first + k) * m->res.phi_nodes) * bounds;
+                e[k] = plm_fiber_rows_energy(b + (size_t)ip[0] * bounds, b + (size_t)ip[1] * bounds, fp, &rows);
             }
             double scale = plm_fiber_energy_scale(m->node_cos, n, ft, v->cos_theta, e);
             for (int c = 0; c < 4; ++c)

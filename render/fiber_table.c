@@ -843,17 +843,9 @@ static const plm_fiber_h_rows *rows_at(const plm_fiber_table *t, const plm_fiber
 static double level_energy(const plm_fiber_table *t, const plm_fiber_view *v, int level, const int ip[2], double fp,
                            interval_rows_cache *cache)
 {
-    const plm_fiber_h_rows *rows = rows_at(t, v, level, cache);
-    double e = 0.0;
-    for (int j = 0; j < 2; ++j) {
-        double wj = j ? fp : 1.0 - fp;
-        if (!(wj > 0.0))
-            continue;
-        const float *b = t->bound_energy + node_bounds(t, level * t->phi_nodes + ip[j]);
-        for (int r = 0; r < rows->n; ++r)
-            e += wj * rows->coef[r] * b[rows->row[r]];
-    }
-    return e;
+    const float *b = t->bound_energy;
+    return plm_fiber_rows_energy(b + node_bounds(t, level * t->phi_nodes + ip[0]),
+                                 b + node_bounds(t, level * t->phi_nodes + ip[1]), fp, rows_at(t, v, level, cache));
 }
 
 /* Without lobe records (elliptical cortex or off-centre medulla), the

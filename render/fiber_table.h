@@ -150,6 +150,22 @@ void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_vi
  * nodes), and the scale from their energies e[0..2] (mean of RGB): the
  * quadratic through them in cos(|theta_o|) at cos_theta (not past the last
  * node) over the linear blend of the two nodes around ft, 1 if that is 0. */
+/* The interval's energy at one |theta_o| node, blended between its two
+ * phi_o nodes (fraction fp) from their cell bounds' energies b0 and b1:
+ * the rows' combination of them. */
+static inline double plm_fiber_rows_energy(const float *b0, const float *b1, double fp, const plm_fiber_h_rows *rows)
+{
+    const float *b[2] = {b0, b1};
+    double e = 0.0;
+    for (int j = 0; j < 2; ++j) {
+        double wj = j ? fp : 1.0 - fp;
+        if (!(wj > 0.0))
+            continue;
+        for (int r = 0; r < rows->n; ++r)
+            e += wj * rows->coef[r] * b[j][rows->row[r]];
+    }
+    return e;
+}
 int plm_fiber_energy_first(int theta_nodes, double ft);
 double plm_fiber_energy_scale(const double *node_cos, int theta_nodes, double ft, double cos_theta, const double e[3]);
 void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,

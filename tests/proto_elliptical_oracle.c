@@ -276,6 +276,22 @@ static const struct {
     int groups, per_group;
 } groupings[GROUPINGS] = {{all_corners, 1, 4}, {phi_pairs, 2, 2}, {theta_pairs, 2, 2}};
 
+/* The query's view as the table folds it, wi's theta_i (ct its cosine)
+ * and its azimuth x relative to phi_o (in the folded view); 0 where every estimate is 0:
+ * wo or wi along the axis, or G_M below e^-72 (the reference's too, to the
+ * metric). */
+static int query_angles(const plm_fiber_table *t, stats_query q, plm_fiber_view *v, double *theta_i, double *ct,
+                        double *x)
+{
+    *ct = sqrt(q.wi.x * q.wi.x + q.wi.y * q.wi.y);
+    if (!plm_fiber_view_of(t->symmetry, q.wo, q.hmin, q.hmax, v) || !(*ct > 1e-12))
+        return 0;
+    *theta_i = atan2(q.wi.z, *ct);
+    double d = remainder(atan2(q.wi.y, q.wi.x) - v->phi_o, PLM_TWO_PI);
+    *x = v->flip ? -d : d;
+    return fabs(*theta_i + v->theta_o) <= 12.0 * t->params.beta_m;
+}
+
 /* Every estimator but the table at one query, with the nodes of t's
  * layout: the mean over `strata` midpoint strata of the folded h-interval. */
 static void node_estimates(const plm_fiber_table *t, stats_query q, int strata, plm_fiber_lobe *lobes,
@@ -285,13 +301,9 @@ static void node_estimates(const plm_fiber_table *t, stats_query q, int strata, 
     for (int e = VALUES; e < ESTIMATORS; ++e)
         r->est[e] = rgb_gray(0.0);
     plm_fiber_view v;
-    double ct = sqrt(q.wi.x * q.wi.x + q.wi.y * q.wi.y);
-    if (!plm_fiber_view_of(t->symmetry, q.wo, q.hmin, q.hmax, &v) || !(ct > 1e-12))
+    double theta_i, ct, x;
+    if (!query_angles(t, q, &v, &theta_i, &ct, &x))
         return;
-    double theta_i = atan2(q.wi.z, ct), x = remainder(atan2(q.wi.y, q.wi.x) - v.phi_o, PLM_TWO_PI);
-    x = v.flip ? -x : x;
-    if (fabs(theta_i + v.theta_o) > 12.0 * p->beta_m)
-        return; /* G_M below e^-72: every estimate, the reference too, is 0 to the metric */
     /* The nodes as table_prepare finds them (elliptical tables have no limit node). */
     double ft = plm_fiber_theta_coordinate(p->eta, t->u_last, t->theta_max, t->theta_nodes, fabs(v.theta_o),
                                            v.sin_theta, v.cos_theta);
@@ -411,12 +423,8 @@ static void study_estimates(const plm_fiber_table *t, stats_query q, int strata,
     for (int e = 0; e < STUDY_ESTIMATORS; ++e)
         est[e] = rgb_gray(0.0);
     plm_fiber_view v;
-    double ct = sqrt(q.wi.x * q.wi.x + q.wi.y * q.wi.y);
-    if (!plm_fiber_view_of(t->symmetry, q.wo, q.hmin, q.hmax, &v) || !(ct > 1e-12))
-        return;
-    double theta_i = atan2(q.wi.z, ct), x = remainder(atan2(q.wi.y, q.wi.x) - v.phi_o, PLM_TWO_PI);
-    x = v.flip ? -x : x;
-    if (fabs(theta_i + v.theta_o) > 12.0 * p->beta_m)
+    double theta_i, ct, x;
+    if (!query_angles(t, q, &v, &theta_i, &ct, &x))
         return;
     int n = t->theta_nodes;
     double ft = plm_fiber_theta_coordinate(p->eta, t->u_last, t->theta_max, n, fabs(v.theta_o), v.sin_theta,
