@@ -472,6 +472,20 @@ void plm_fiber_table_bound_energies(plm_fiber_table *t)
     plm_fiber_medulla_bound_energies(&t->medulla);
 }
 
+/* Frees what plm_fiber_table_alloc allocated and leaves the pointers NULL. */
+static void release_arrays(plm_fiber_table *t)
+{
+    free(t->data);
+    free(t->h_node);
+    free(t->h_node_grazing);
+    free(t->node_cos);
+    free(t->bound_energy);
+    plm_fiber_medulla_release(&t->medulla);
+    t->data = NULL;
+    t->h_node = t->h_node_grazing = t->node_cos = NULL;
+    t->bound_energy = NULL;
+}
+
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
 {
     t->data = malloc(sizeof(float) * t->floats);
@@ -487,15 +501,7 @@ plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
     if (!t->data || !t->h_node || (t->grazing_nodes > 0 && !t->h_node_grazing) || !t->node_cos ||
         (t->lobe_slots == 0 && !t->bound_energy) ||
         plm_fiber_medulla_alloc(&t->medulla, err) != PLM_OK) {
-        free(t->data);
-        free(t->h_node);
-        free(t->h_node_grazing);
-        free(t->node_cos);
-        free(t->bound_energy);
-        plm_fiber_medulla_release(&t->medulla);
-        t->data = NULL;
-        t->h_node = t->h_node_grazing = t->node_cos = NULL;
-        t->bound_energy = NULL;
+        release_arrays(t);
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory (%zu MB)",
                         sizeof(float) * t->floats >> 20);
     }
@@ -506,12 +512,7 @@ void plm_fiber_table_free(plm_fiber_table *t)
 {
     if (!t)
         return;
-    free(t->data);
-    free(t->h_node);
-    free(t->h_node_grazing);
-    free(t->node_cos);
-    free(t->bound_energy);
-    plm_fiber_medulla_release(&t->medulla);
+    release_arrays(t);
     free(t);
 }
 
