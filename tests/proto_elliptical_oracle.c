@@ -663,7 +663,7 @@ static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rn
     } else if (t && t->medulla.res.theta_nodes > 0) {
         double e[3], noise[3];
         double started = plm_fiber_seconds();
-        medulla_error(t, rng, 8, 64, 100000, e, noise);
+        medulla_error(t, rng, 8, 64, 100000, e, noise, NULL);
         fprintf(stderr, "%-28s medulla reference replayed, %.0f s\n", name, plm_fiber_seconds() - started);
     }
     after_medulla[index] = *rng;
