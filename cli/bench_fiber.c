@@ -132,7 +132,7 @@ int bench_fiber(int argc, char **argv)
                                          "default_barb", "all", NULL};
     static const char *const estimators[] = {"stochastic", "tabulated", "both", NULL};
     int runs = 7, calls = 200000, lobes = 5, cached = 0, interval = 2, only = PLM_FIBER_FIGURE7_VARIANTS + 1,
-        estimator = 2;
+        estimator = 2, table_mib = (int)(PLM_FIBER_TABLE_BUDGET >> 20);
     plm_option opts[] = {
         {"--runs", PLM_OPT_INT, &runs, 0, 1, 64, NULL, "N", "timed runs; the median is reported (default 7)", 0},
         {"--calls", PLM_OPT_INT, &calls, 0, 1000, 100000000, NULL, "N", "calls per timed run (default 200000)", 0},
@@ -149,6 +149,8 @@ int bench_fiber(int argc, char **argv)
          "the estimators timed (default both)", 0},
         {"--cached", PLM_OPT_FLAG, &cached, 0, 0, 0, NULL, NULL,
          "take the tables from the disk cache (no build time; for instruction counts under callgrind)", 0},
+        {"--table-mib", PLM_OPT_INT, &table_mib, 0, PLM_FIBER_TABLE_MIB_MIN, PLM_FIBER_TABLE_MIB_MAX, NULL, "N",
+         "each table's memory, as a scene's film.fiber_table_mib (default 32)", 0},
     };
     const plm_command_help help = {
         "plumage bench fiber [options]",
@@ -181,6 +183,7 @@ int bench_fiber(int argc, char **argv)
         plm_fiber_table *table = NULL;
         plm_fiber_table_options build = {0};
         build.no_cache = !cached; /* timed afresh */
+        build.budget_mib = table_mib;
         build.quiet = 1;
         plm_error err;
         if (plm_fiber_table_get(&b.params, &build, &table, &err) != PLM_OK) {

@@ -160,7 +160,7 @@ static int build_scene(plm_scene *s, int feathers, int closeup, int width, int h
 }
 
 typedef struct bench_options {
-    int threads, spp, feathers, diffuse, vane_quad, downscale, shaded_only;
+    int threads, spp, feathers, diffuse, vane_quad, downscale, shaded_only, table_mib;
     const char *species, *images, *bcsdf, *cases;
     int kinds;                /* how many estimators to run: 1, or 2 for "both" */
     plm_bcsdf_kind kind[2];
@@ -207,6 +207,7 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
     /* The world is built for the first estimator; a tabulated one first
      * builds the tables, which the stochastic one then leaves unused. */
     set_kind(&scene, o->kind[0]);
+    scene.film.fiber_table_mib = o->table_mib;
     plm_world world;
     double t0 = plm_bench_seconds();
     if (plm_world_build(&scene, &world, &err) != PLM_OK) {
@@ -251,7 +252,8 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
 
 int bench_render(int argc, char **argv)
 {
-    bench_options o = {0, 16, 2500, 0, 0, 1, 0, "presets/species/covert_parrot.json", NULL, "tabulated", "abc",
+    bench_options o = {0, 16, 2500, 0, 0, 1, 0, (int)(PLM_FIBER_TABLE_BUDGET >> 20),
+                       "presets/species/covert_parrot.json", NULL, "tabulated", "abc",
                        1, {PLM_BCSDF_TABULATED, PLM_BCSDF_STOCHASTIC}};
     plm_option opts[] = {
         {"--threads", PLM_OPT_INT, &o.threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
@@ -272,6 +274,8 @@ int bench_render(int argc, char **argv)
          "divide each case's width and height by N (for expensive references)", 0},
         {"--shaded-only", PLM_OPT_FLAG, &o.shaded_only, 0, 0, 0, NULL, NULL,
          "skip the trace-only pass (no shading ratio)", 0},
+        {"--table-mib", PLM_OPT_INT, &o.table_mib, 0, PLM_FIBER_TABLE_MIB_MIN, PLM_FIBER_TABLE_MIB_MAX, NULL, "N",
+         "each fiber table's memory, as a scene's film.fiber_table_mib (default 32)", 0},
     };
     plm_command_help help = {
         "plumage bench render [options]",

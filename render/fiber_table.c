@@ -136,6 +136,9 @@ void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *ph
 }
 
 /* Resolution and symmetry for p: the defaults of docs/fiber.md unless o sets them. */
+/* x rounded up to a multiple of 8. */
+static int round_up8(double x) { return ((int)ceil(x - 1e-9) + 7) / 8 * 8; }
+
 void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table *t)
 {
     memset(t, 0, sizeof *t);
@@ -158,8 +161,14 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
     plm_fiber_medulla_layout(p, t->symmetry, o ? &o->medulla : NULL, &t->medulla);
     /* The medulla's part first (an override may take all of it: the other part then gets its least). */
+    size_t whole = o && o->budget_mib > 0 ? (size_t)o->budget_mib << 20 : PLM_FIBER_TABLE_BUDGET;
     size_t medulla_bytes = sizeof(float) * t->medulla.floats;
-    size_t budget = medulla_bytes < PLM_FIBER_TABLE_BUDGET ? PLM_FIBER_TABLE_BUDGET - medulla_bytes : 0;
+    size_t budget = medulla_bytes < whole ? whole - medulla_bytes : 0;
+    /* Beyond the default budget an elliptical table refines its |theta_o|
+     * nodes, h cells and phi_o nodes alike, by the cube root of the ratio:
+     * its error is resolution in all three at once, and any one refined
+     * alone buys little (docs/fiber.md). */
+    double refine = whole > PLM_FIBER_TABLE_BUDGET ? cbrt((double)whole / (double)PLM_FIBER_TABLE_BUDGET) : 1.0;
     int bins = (int)ceil((round_fiber ? 4.0 : 2.0) * PLM_TWO_PI / p->beta_n);
     bins = (bins + 31) / 32 * 32;
     t->phi_bins = o && o->phi_bins > 0 ? o->phi_bins : bins < 64 ? 64 : bins > 2048 ? 2048 : bins;
@@ -167,12 +176,13 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
      * (without it, the 89 deg node served every view beyond and was 3% off
      * at 89.3 deg); elliptical ones measured no better with it (docs/fiber.md). */
     t->limit_node = round_fiber;
-    t->theta_nodes = (o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 60 : 12) + t->limit_node;
+    t->theta_nodes = (o && o->theta_nodes > 1 ? o->theta_nodes : round_fiber ? 60 : (int)lround(12 * refine)) +
+                     t->limit_node;
     t->lobe_slots = round_fiber ? p->lobes : 0;
     size_t row_bytes = sizeof(float) * bound_floats(t);
     int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
     int h_set = o && o->h_cells > 0;
-    t->h_cells = h_set ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : 56;
+    t->h_cells = h_set ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : round_up8(56 * refine);
     t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
     /* Toward grazing views a cell's mass spread evenly over it is off most
      * (the lobes sweep the azimuths faster as h runs through it): the last
@@ -182,7 +192,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     if (!round_fiber) {
         int g = o && o->grazing_nodes != 0 ? o->grazing_nodes : 3;
         t->grazing_nodes = g < 0 ? 0 : g > t->theta_nodes ? t->theta_nodes : g;
-        t->grazing_cells = o && o->grazing_cells > 0 ? o->grazing_cells : h_set ? 2 * t->h_cells : 120;
+        t->grazing_cells = o && o->grazing_cells > 0 ? o->grazing_cells : h_set ? 2 * t->h_cells : round_up8(120 * refine);
         t->grazing_cells = t->grazing_nodes == 0 ? 0 : t->grazing_cells;
     }
     t->theta_max = plm_radians(89.0);

@@ -35,6 +35,9 @@ static const plm_param film_params[] = {
      "PNG only: scale by 2^exposure before tone mapping", 0},
     {"far_field", PLM_PARAM_BOOL, offsetof(plm_film_desc, far_field), 0, 1, "",
      "shade feathers with the far-field model only, even where a pixel resolves barbs (docs/nearfield.md)", 0},
+    {"fiber_table_mib", PLM_PARAM_INT, offsetof(plm_film_desc, fiber_table_mib), PLM_FIBER_TABLE_MIB_MIN,
+     PLM_FIBER_TABLE_MIB_MAX, "MiB",
+     "memory of each fiber table (tabulated BCSDF): more is more accurate for elliptical fibers (docs/fiber.md)", 0},
 };
 const plm_param_block plm_film_param_block = {
     "film", "the image; also \"exr\" and \"png\": output files (working directory)", film_params,
@@ -72,6 +75,7 @@ void plm_scene_init(plm_scene *scene)
     f->spp = 64;
     f->max_depth = 16;
     f->seed = 1;
+    f->fiber_table_mib = (int)(PLM_FIBER_TABLE_BUDGET >> 20);
 }
 
 void plm_scene_free(plm_scene *scene)

@@ -32,6 +32,7 @@ typedef struct plm_film_desc {
     uint64_t seed;
     double exposure;     /* PNG only: scale by 2^exposure before tone mapping */
     int far_field;       /* 1: feathers only in the far field, even where barbs are resolved (docs/nearfield.md) */
+    int fiber_table_mib; /* memory of each tabulated fiber BCSDF's table (docs/fiber.md) */
     char exr[PLM_PATH_MAX]; /* "" = not written */
     char png[PLM_PATH_MAX];
 } plm_film_desc;

@@ -79,6 +79,7 @@ static void defaults_when_fields_are_absent(void **state)
     assert_int_equal(s.film.spp, 64);
     assert_int_equal(s.film.max_depth, 16);
     assert_int_equal((int)s.film.seed, 1);
+    assert_int_equal(s.film.fiber_table_mib, 32);
     assert_false(s.camera.given);
     assert_double_near(s.camera.fov, 40.0, 0);
     assert_string_equal(s.film.png, "");
@@ -229,6 +230,8 @@ static void errors_name_file_field_and_allowed_values(void **state)
     expect_error("{\"film\": {\"spp\": \"many\"}}", (const char *const[]){"film.spp", "number", NULL});
     expect_error("{\"film\": {\"width\": 0}}", (const char *const[]){"film.width", "[1, 16384]", NULL});
     expect_error("{\"film\": {\"spp\": 1.5}}", (const char *const[]){"film.spp", "whole number", NULL});
+    expect_error("{\"film\": {\"fiber_table_mib\": 4}}",
+                 (const char *const[]){"bad.json", "film.fiber_table_mib", "[8, 4096]", NULL});
     expect_error("{\"lights\": [{\"type\": \"laser\"}]}",
                  (const char *const[]){"lights[0].type", "\"environment\"", "\"quad\"", NULL});
     expect_error("{\"lights\": [{\"radiance\": [1, 1, 1]}]}", (const char *const[]){"lights[0].type", "required", NULL});
