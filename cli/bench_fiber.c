@@ -132,7 +132,7 @@ int bench_fiber(int argc, char **argv)
                                          "default_barb", "all", NULL};
     static const char *const estimators[] = {"stochastic", "tabulated", "both", NULL};
     int runs = 7, calls = 200000, lobes = 5, cached = 0, interval = 2, only = PLM_FIBER_FIGURE7_VARIANTS + 1,
-        estimator = 2, table_mib = (int)(PLM_FIBER_TABLE_BUDGET >> 20);
+        estimator = 2, table_mib = PLM_FIBER_TABLE_MIB_DEFAULT;
     plm_option opts[] = {
         {"--runs", PLM_OPT_INT, &runs, 0, 1, 64, NULL, "N", "timed runs; the median is reported (default 7)", 0},
         {"--calls", PLM_OPT_INT, &calls, 0, 1000, 100000000, NULL, "N", "calls per timed run (default 200000)", 0},

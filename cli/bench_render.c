@@ -252,7 +252,7 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
 
 int bench_render(int argc, char **argv)
 {
-    bench_options o = {0, 16, 2500, 0, 0, 1, 0, (int)(PLM_FIBER_TABLE_BUDGET >> 20),
+    bench_options o = {0, 16, 2500, 0, 0, 1, 0, PLM_FIBER_TABLE_MIB_DEFAULT,
                        "presets/species/covert_parrot.json", NULL, "tabulated", "abc",
                        1, {PLM_BCSDF_TABULATED, PLM_BCSDF_STOCHASTIC}};
     plm_option opts[] = {

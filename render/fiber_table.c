@@ -135,10 +135,25 @@ void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *ph
     *phi_step = phi_nodes > 1 ? span[symmetry] / (phi_nodes - (symmetry != PLM_FIBER_TABLE_NONE)) : 0.0;
 }
 
-/* Resolution and symmetry for p: the defaults of docs/fiber.md unless o sets them. */
-/* x rounded up to a multiple of 8. */
-static int round_up8(double x) { return ((int)ceil(x - 1e-9) + 7) / 8 * 8; }
+/* The bytes a table aims at: o's budget_mib, kept within its range; 0 or
+ * less (or no o) the default. */
+static size_t budget_bytes(const plm_fiber_table_options *o)
+{
+    int mib = o ? o->budget_mib : 0;
+    if (mib <= 0)
+        return PLM_FIBER_TABLE_BUDGET;
+    if (mib < PLM_FIBER_TABLE_MIB_MIN)
+        mib = PLM_FIBER_TABLE_MIB_MIN;
+    if (mib > PLM_FIBER_TABLE_MIB_MAX)
+        mib = PLM_FIBER_TABLE_MIB_MAX;
+    return (size_t)mib << 20;
+}
 
+/* n cells refined by a factor, to the nearest multiple of 8 (so that a budget
+ * just above the default keeps the default cells, not fewer phi_o nodes). */
+static int refined_cells(int n, double refine) { return (int)lround(n * refine / 8.0) * 8; }
+
+/* Resolution and symmetry for p: the defaults of docs/fiber.md unless o sets them. */
 void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table *t)
 {
     memset(t, 0, sizeof *t);
@@ -161,7 +176,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     int round_fiber = t->symmetry == PLM_FIBER_TABLE_ROTATIONAL;
     plm_fiber_medulla_layout(p, t->symmetry, o ? &o->medulla : NULL, &t->medulla);
     /* The medulla's part first (an override may take all of it: the other part then gets its least). */
-    size_t whole = o && o->budget_mib > 0 ? (size_t)o->budget_mib << 20 : PLM_FIBER_TABLE_BUDGET;
+    size_t whole = budget_bytes(o);
     size_t medulla_bytes = sizeof(float) * t->medulla.floats;
     size_t budget = medulla_bytes < whole ? whole - medulla_bytes : 0;
     /* Beyond the default budget an elliptical table refines its |theta_o|
@@ -182,17 +197,22 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     size_t row_bytes = sizeof(float) * bound_floats(t);
     int rows = (int)(budget / (row_bytes * (size_t)t->theta_nodes));
     int h_set = o && o->h_cells > 0;
-    t->h_cells = h_set ? o->h_cells : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256) : round_up8(56 * refine);
+    t->h_cells = h_set         ? o->h_cells
+                 : round_fiber ? (rows - 1 < 256 ? (rows - 1) / 8 * 8 : 256)
+                               : refined_cells(56, refine);
     t->h_cells = t->h_cells < 8 ? 8 : t->h_cells;
     /* Toward grazing views a cell's mass spread evenly over it is off most
-     * (the lobes sweep the azimuths faster as h runs through it): the last
-     * three nodes get 120 cells, and 56 at the others keep the memory, so
-     * the phi_o nodes, of 72 everywhere (docs/fiber.md has the errors).
+     * (the lobes sweep the azimuths faster as h runs through it): at the
+     * default budget the last three nodes get 120 cells, and 56 at the
+     * others keep the memory, so the phi_o nodes, of 72 everywhere
+     * (docs/fiber.md has the errors); a larger budget refines both.
      * Tables with lobe records integrate partial cells as moving lobes. */
     if (!round_fiber) {
         int g = o && o->grazing_nodes != 0 ? o->grazing_nodes : 3;
         t->grazing_nodes = g < 0 ? 0 : g > t->theta_nodes ? t->theta_nodes : g;
-        t->grazing_cells = o && o->grazing_cells > 0 ? o->grazing_cells : h_set ? 2 * t->h_cells : round_up8(120 * refine);
+        t->grazing_cells = o && o->grazing_cells > 0 ? o->grazing_cells
+                           : h_set                   ? 2 * t->h_cells
+                                                     : refined_cells(120, refine);
         t->grazing_cells = t->grazing_nodes == 0 ? 0 : t->grazing_cells;
     }
     t->theta_max = plm_radians(89.0);

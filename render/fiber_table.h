@@ -25,16 +25,19 @@
 #define PLM_FIBER_THETA_LIMIT (89.9 * PLM_PI / 180.0)
 /* Default resolution aims at this many bytes per table. */
 #define PLM_FIBER_TABLE_BUDGET ((size_t)32 << 20)
-/* The range of plm_fiber_table_options.budget_mib (and of a feather
- * material's "table_mib"). */
+/* The default and the range of plm_fiber_table_options.budget_mib and of a
+ * scene's film.fiber_table_mib. */
+#define PLM_FIBER_TABLE_MIB_DEFAULT ((int)(PLM_FIBER_TABLE_BUDGET >> 20))
 #define PLM_FIBER_TABLE_MIB_MIN 8
 #define PLM_FIBER_TABLE_MIB_MAX 4096
 
 typedef struct plm_fiber_table_options {
     int threads;           /* build threads; 0 = all cores */
-    /* The memory the default resolution aims at, both parts, in MiB; 0 =
-     * PLM_FIBER_TABLE_BUDGET. A larger budget buys an elliptical table
-     * accuracy (docs/fiber.md, "Memory and accuracy"). */
+    /* The memory the default resolution aims at, both parts, in MiB: 0 (or
+     * less) the default, else kept within PLM_FIBER_TABLE_MIB_MIN..MAX. A
+     * larger budget buys an elliptical table accuracy (docs/fiber.md,
+     * "Memory and accuracy"). The medulla's part keeps its own 10 MiB
+     * layout, so a fiber with one takes about 14 MiB at least. */
     int budget_mib;
     const char *cache_dir; /* NULL: $PLUMAGE_CACHE_DIR, else $XDG_CACHE_HOME/plumage, else $HOME/.cache/plumage */
     int no_cache;          /* 1: neither read nor write the disk cache */

@@ -75,7 +75,7 @@ void plm_scene_init(plm_scene *scene)
     f->spp = 64;
     f->max_depth = 16;
     f->seed = 1;
-    f->fiber_table_mib = (int)(PLM_FIBER_TABLE_BUDGET >> 20);
+    f->fiber_table_mib = PLM_FIBER_TABLE_MIB_DEFAULT;
 }
 
 void plm_scene_free(plm_scene *scene)

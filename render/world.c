@@ -345,7 +345,7 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
         plm_feather_params *f = scene->materials[i].feather;
         if (f)
             plm_feather_params_prepare_masking(f);
-        plm_fiber_table_options tables = {.budget_mib = scene->film.fiber_table_mib};
+        const plm_fiber_table_options tables = {.budget_mib = scene->film.fiber_table_mib};
         if (f && (rc = plm_feather_params_build_tables(f, &tables, err)) != PLM_OK) {
             plm_world_free(w);
             return rc;

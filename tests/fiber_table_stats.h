@@ -183,7 +183,7 @@ static rgb table_whole_eval(const plm_fiber_table *t, vec3 wo, double hmin, doub
     return plm_fiber_bcsdf_eval(&b, wi);
 }
 
-/* Accumulates one channel of a relative L2 difference with a noisy
+/* Accumulates a relative L2 difference per channel (RGB) with a noisy
  * reference (see medulla_error) and, at the end, finishes it. */
 typedef struct noisy_l2 {
     double num[3], den[3], var[3];

@@ -26,14 +26,16 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: proto_table_memory VARIANT MIB...\n");
         return 2;
     }
-    int variant = atoi(argv[1]), queries = getenv("PROTO_QUERIES") ? atoi(getenv("PROTO_QUERIES")) : 2000;
-    if (variant < 0 || variant >= PLM_FIBER_FIGURE7_VARIANTS || queries < 1) {
+    char *end;
+    long variant = strtol(argv[1], &end, 10);
+    int queries = getenv("PROTO_QUERIES") ? atoi(getenv("PROTO_QUERIES")) : 2000;
+    if (*end || end == argv[1] || variant < 0 || variant >= PLM_FIBER_FIGURE7_VARIANTS || queries < 1) {
         fprintf(stderr, "proto_table_memory: VARIANT is 0 to %d, PROTO_QUERIES at least 1\n",
                 PLM_FIBER_FIGURE7_VARIANTS - 1);
         return 2;
     }
     plm_fiber_params p;
-    plm_fiber_params_figure7(&p, variant);
+    plm_fiber_params_figure7(&p, (int)variant);
     for (int a = 2; a < argc; ++a) {
         plm_fiber_table_options o = {0};
         o.quiet = 1;

@@ -25,7 +25,8 @@
 /* The medulla part's error (medulla_error: 8 views x 64 wi, 10^5
  * reference sets each), printed with the whole BCSDF's at the same
  * queries; returns the largest channel's of the medulla part (the part
- * without the medulla has its own figures on more queries). */
+ * without the medulla has its own figures on more queries; the whole
+ * BCSDF's figure is printed only, as both parts' are asserted). */
 static double medulla_part_error(const plm_fiber_table *t, const char *name, plm_rng *rng)
 {
     double e[3], noise[3], whole[3];

@@ -794,8 +794,9 @@ static void medulla_override_over_budget(void **state)
 
 /* A larger memory budget refines an elliptical table's |theta_o| nodes, h
  * cells and phi_o nodes together (by the cube root of the ratio) and stays
- * within the budget; the default budget keeps the default layout; a
- * circular table stops at its cells' cap. */
+ * within the budget; the default budget, asked for or not, keeps the
+ * default layout, and one just above it no fewer phi_o nodes; a circular
+ * table stops at its cells' cap; the largest budget's sizes fit. */
 static void budget_refines_layout(void **state)
 {
     (void)state;
@@ -804,9 +805,19 @@ static void budget_refines_layout(void **state)
     plm_fiber_table_options o = {0};
     plm_fiber_table small, large;
     plm_fiber_table_layout(&p, &o, &small);
-    assert_int_equal(small.theta_nodes, 12);
-    assert_int_equal(small.h_cells, 56);
-    assert_int_equal(small.grazing_cells, 120);
+    const int keep[2] = {PLM_FIBER_TABLE_MIB_DEFAULT, PLM_FIBER_TABLE_MIB_DEFAULT + 1};
+    for (int k = 0; k < 2; ++k) {
+        o.budget_mib = keep[k];
+        plm_fiber_table_layout(&p, &o, &large);
+        assert_int_equal(large.theta_nodes, 12);
+        assert_int_equal(large.h_cells, 56);
+        assert_int_equal(large.grazing_cells, 120);
+        assert_true(k == 0 ? large.phi_nodes == small.phi_nodes : large.phi_nodes >= small.phi_nodes);
+    }
+    o.budget_mib = PLM_FIBER_TABLE_MIB_MAX;
+    plm_fiber_table_layout(&p, &o, &large);
+    assert_true(large.theta_nodes > 12 && large.phi_nodes > small.phi_nodes && large.h_cells > 56);
+    assert_true(sizeof(float) * large.floats <= ((size_t)PLM_FIBER_TABLE_MIB_MAX << 20));
     o.budget_mib = 256; /* eight times the default: twice each way */
     plm_fiber_table_layout(&p, &o, &large);
     assert_int_equal(large.theta_nodes, 24);
@@ -821,40 +832,53 @@ static void budget_refines_layout(void **state)
     assert_int_equal(large.h_cells, 256);
 }
 
-/* The error of the default elliptical table is its resolution, so four
- * times the memory must take part of it away at the lobes (by 10% at
- * least; measured 27%) and most of it with wi uniform (half at least;
- * measured 74%), on the same 800 queries each (docs/fiber.md has the
- * figures). Refining the phi_o nodes alone, as the layout did before the
- * budget reached the other two, does not: R at the lobes grew with it. */
+/* The default elliptical table's error is its resolution, so eight times
+ * the memory must bring most queries closer to the exact mean: of the
+ * queries more than 1% off at the default, at least 84% at the lobes and
+ * 60% with wi uniform (measured 88-90% and 64-68% on three draws of 800).
+ * Counted per query because a few grazing queries carry the relative L2
+ * figures and move them either way (docs/fiber.md). The same memory in
+ * phi_o nodes alone, as the layout spent it before the budget refined the
+ * other two, brings 76-80% at the lobes closer and fails. The tables are
+ * not cached (256 MiB). */
 static void more_memory_more_accurate(void **state)
 {
     (void)state;
     plm_fiber_params p;
     plm_fiber_params_figure7(&p, 1);
-    double worst[2][2] = {{0.0}};
+    plm_fiber_table *t[2] = {NULL, NULL};
     for (int big = 0; big < 2; ++big) {
         plm_fiber_table_options o = {0};
         o.quiet = 1;
-        o.budget_mib = big ? 128 : 32;
-        plm_fiber_table *t = NULL;
+        o.no_cache = 1;
+        o.budget_mib = big ? 256 : PLM_FIBER_TABLE_MIB_DEFAULT;
         plm_error err;
-        if (plm_fiber_table_get(&p, &o, &t, &err) != PLM_OK)
+        if (plm_fiber_table_get(&p, &o, &t[big], &err) != PLM_OK)
             fail_msg("%s", err.message);
-        for (int uniform = 0; uniform < 2; ++uniform) {
-            plm_rng rng;
-            plm_rng_seed(&rng, 99, (uint64_t)uniform);
-            double e[3];
-            table_error(t, &rng, 800, uniform, 500, e);
-            worst[big][uniform] = fmax(e[0], fmax(e[1], e[2]));
-        }
-        plm_fiber_table_free(t);
     }
     for (int uniform = 0; uniform < 2; ++uniform) {
-        print_message("elliptical, wi %s: 32 MiB %.4f, 128 MiB %.4f\n", uniform ? "uniform" : "at lobes",
-                      worst[0][uniform], worst[1][uniform]);
-        assert_true(worst[1][uniform] < (uniform ? 0.5 : 0.9) * worst[0][uniform]);
+        plm_rng rng;
+        plm_rng_seed(&rng, 99, (uint64_t)uniform);
+        int off = 0, closer = 0;
+        for (int i = 0; i < 800; ++i) {
+            stats_query q = error_query(&p, &rng, uniform);
+            rgb ref = reference_eval(&p, q.wo, q.hmin, q.hmax, q.wi, 500);
+            double e[2], mag = fmax(ref.r, fmax(ref.g, ref.b));
+            for (int big = 0; big < 2; ++big) {
+                rgb a = table_part_eval(t[big], q.wo, q.hmin, q.hmax, q.wi);
+                e[big] = fmax(fabs(a.r - ref.r), fmax(fabs(a.g - ref.g), fabs(a.b - ref.b)));
+            }
+            if (mag > 0.0 && e[0] > 0.01 * mag) {
+                ++off;
+                closer += e[1] < e[0];
+            }
+        }
+        print_message("elliptical, wi %s: %d of the %d queries over 1%% off at 32 MiB closer at 256 MiB\n",
+                      uniform ? "uniform" : "at lobes", closer, off);
+        assert_true(off > 100 && closer >= (uniform ? 0.6 : 0.84) * off);
     }
+    plm_fiber_table_free(t[0]);
+    plm_fiber_table_free(t[1]);
 }
 
 int main(void)
