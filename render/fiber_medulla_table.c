@@ -1073,8 +1073,9 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
             /* Each node's energy from its light rows' (bound_energy), the
              * partial cells' taken as spread evenly (the other part's rows
              * do the same; the scale is a ratio). */
-            int ip[2] = {nodes[0] % m->res.phi_nodes, nodes[1] % m->res.phi_nodes}, bounds = m->res.h_cells + 1;
-            double fp = w[0] + w[1] > 0.0 ? w[1] / (w[0] + w[1]) : w[3] / (w[2] + w[3]), e[3];
+            int ip[2], bounds = m->res.h_cells + 1;
+            double fp, e[3];
+            plm_fiber_phi_weights(m->symmetry, m->res.phi_nodes, m->phi_lo, m->phi_step, v->phi, ip, &fp);
             plm_fiber_h_rows rows;
             plm_fiber_interval_rows(m->h_node, m->res.h_cells, v, &rows);
             for (int k = 0; k < 3; ++k) {

@@ -155,12 +155,6 @@ typedef struct plm_fiber_h_rows {
  * mostly rounding near one. */
 #define PLM_FIBER_POINT_WIDTH 1e-9
 void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *rows);
-/* The blend's energy scale of tables without lobe records (docs/fiber.md):
- * the first of the three |theta_o| nodes through which the interval's
- * energy is interpolated at node coordinate ft (-1: fewer than three
- * nodes), and the scale from their energies e[0..2] (mean of RGB): the
- * quadratic through them in cos(|theta_o|) at cos_theta (not past the last
- * node) over the linear blend of the two nodes around ft, 1 if that is 0. */
 /* The interval's energy at one |theta_o| node, blended between its two
  * phi_o nodes (fraction fp) from their cell bounds' energies b0 and b1:
  * the rows' combination of them. */
@@ -177,6 +171,12 @@ static inline double plm_fiber_rows_energy(const float *b0, const float *b1, dou
     }
     return e;
 }
+/* The blend's energy scale of tables without lobe records (docs/fiber.md):
+ * the first of the three |theta_o| nodes through which the interval's
+ * energy is interpolated at node coordinate ft (-1: fewer than three
+ * nodes), and the scale from their energies e[0..2] (mean of RGB): the
+ * quadratic through them in cos(|theta_o|) at cos_theta (not past the last
+ * node) over the linear blend of the two nodes around ft, 1 if that is 0. */
 int plm_fiber_energy_first(int theta_nodes, double ft);
 double plm_fiber_energy_scale(const double *node_cos, int theta_nodes, double ft, double cos_theta, const double e[3]);
 void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
