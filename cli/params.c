@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "generate/layout.h"
+#include "generate/wing.h"
 #include "generate/species.h"
 #include "render/feather_bsdf.h"
 #include "render/pigment.h"

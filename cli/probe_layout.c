@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "generate/layout.h"
+#include "generate/wing.h"
 #include "scene/layout_block.h"
 
 static const char *const kinds[] = {"pelt", "ball", "wing", NULL};

@@ -17,8 +17,9 @@
  * Frames: a prototype lives in the feather frame of generate/species.h
  * (millimetres, rachis along +y from the calamus base at the origin, dorsal
  * +z); an instance's matrix takes it into the layout's space, whose unit is
- * the surface's (pelt), the wing's span unit or the ball's. See
- * docs/layouts.md for the parameters, shingling and the wing's rows. */
+ * the surface's (pelt), the wing's span unit or the ball's. The wing is
+ * generate/wing.h. See docs/layouts.md for the parameters, shingling and the
+ * wing's rows. */
 #ifndef PLUMAGE_GENERATE_LAYOUT_H
 #define PLUMAGE_GENERATE_LAYOUT_H
 
@@ -127,43 +128,6 @@ typedef struct plm_ball_params {
 
 plm_result plm_layout_ball(const plm_ball_params *p, const plm_layout_species *species, int species_count,
                            plm_layout *out, plm_error *err);
-
-/* ---- Wing ---- */
-
-/* The rows of a wing, each its own species. */
-typedef enum plm_wing_row {
-    PLM_WING_PRIMARY = 0,
-    PLM_WING_SECONDARY,
-    PLM_WING_TERTIAL,
-    PLM_WING_GREATER_COVERT,
-    PLM_WING_MEDIAN_COVERT,
-    PLM_WING_LESSER_COVERT,
-    PLM_WING_ALULA,
-    PLM_WING_ROWS
-} plm_wing_row;
-
-/* The row names used in files and messages ("primary", ...). */
-extern const char *const plm_wing_row_names[PLM_WING_ROWS];
-
-/* A right wing: the shoulder at the origin, span along +x, the leading edge
- * toward +y, dorsal +z. */
-typedef struct plm_wing_params {
-    double span;      /* shoulder to the tip of the longest primary, layout units [1] */
-    double chord;     /* length of the secondaries, layout units [0.3 span] */
-    double sweep;     /* radians the hand and its primaries sweep back (0 = straight) */
-    double fold;      /* 0 = spread .. 1 = folded against the body */
-    int primaries;    /* [10], at most 12 */
-    int secondaries;  /* [12], at most 24 */
-    int tertials;     /* [3], at most 6 */
-    int variants;     /* distinct prototypes per row [3] */
-    plm_layout_variation variation;
-    uint64_t seed;
-} plm_wing_params;
-
-/* rows[PLM_WING_ROWS]: the species of each row; NULL rows take the secondary's
- * (the primary and secondary rows are required). */
-plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *rows, plm_layout *out,
-                           plm_error *err);
 
 /* A seeded variant of a species (widths, bends, barb angles, splits and the
  * pigment seed jittered a little, still valid); variant 0 is the species itself. */

@@ -7,6 +7,7 @@
 
 #include "common/rng.h"
 #include "generate/layout.h"
+#include "generate/wing.h"
 #include "scene/scene_file.h"
 
 #define MAX_LAYOUT_SPECIES 16

@@ -16,6 +16,7 @@
 
 #include "generate/geometry.h"
 #include "generate/layout.h"
+#include "generate/wing.h"
 #include "generate/outline.h"
 #include "texture/feather.h"
 
