@@ -1,12 +1,13 @@
 /* Layouts (generate/layout.h): counts, roots on the surface, nothing below
  * it (checked with the prototypes' full-resolution meshes), coverage of the
- * surface, shingling, the overlap order of a wing's rows, reproducibility. */
+ * surface, shingling, reproducibility. The wing is test_layout_wing.c. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
 #include "assert_double.h"
+#include "layout_helpers.h"
 #include "test_files.h"
 
 #include <math.h>
@@ -16,39 +17,8 @@
 
 #include "generate/geometry.h"
 #include "generate/layout.h"
-#include "generate/wing.h"
 #include "generate/outline.h"
 #include "texture/feather.h"
-
-/* The prototypes' meshes at the renderer's default level. */
-static plm_feather *generate_prototypes(const plm_layout *l, const plm_species *const *species)
-{
-    plm_feather *f = calloc((size_t)l->prototype_count, sizeof *f);
-    for (int i = 0; i < l->prototype_count; ++i) {
-        plm_species sp = *species[l->prototypes[i].species];
-        sp.shape = l->prototypes[i].shape;
-        sp.pigment = l->prototypes[i].pigment;
-        plm_feather_options opt = {.no_textures = 1};
-        assert_int_equal(plm_feather_generate(&sp, &opt, &f[i], NULL), PLM_OK);
-    }
-    return f;
-}
-
-static void free_prototypes(plm_feather *f, int n)
-{
-    for (int i = 0; i < n; ++i)
-        plm_feather_free(&f[i]);
-    free(f);
-}
-
-static vec3 xf(const plm_layout_instance *in, vec3 p)
-{
-    return v3(in->m[0][0] * p.x + in->m[0][1] * p.y + in->m[0][2] * p.z + in->m[0][3],
-              in->m[1][0] * p.x + in->m[1][1] * p.y + in->m[1][2] * p.z + in->m[1][3],
-              in->m[2][0] * p.x + in->m[2][1] * p.y + in->m[2][2] * p.z + in->m[2][3]);
-}
-
-static vec3 column(const plm_layout_instance *in, int c) { return v3(in->m[0][c], in->m[1][c], in->m[2][c]); }
 
 /* Lowest height of any vertex of an instance's meshes, by a height function. */
 typedef double (*height_fn)(vec3 p, const void *ctx);
@@ -67,14 +37,6 @@ static double lowest_point(const plm_layout_instance *in, const plm_feather *f, 
 
 static double plane_height(vec3 p, const void *ctx) { (void)ctx; return p.z; }
 static double sphere_height(vec3 p, const void *ctx) { return v3_length(p) - *(const double *)ctx; }
-
-static void assert_same_layout(const plm_layout *a, const plm_layout *b)
-{
-    assert_int_equal(a->instance_count, b->instance_count);
-    assert_int_equal(a->prototype_count, b->prototype_count);
-    assert_memory_equal(a->instances, b->instances, sizeof *a->instances * (size_t)a->instance_count);
-    assert_memory_equal(a->prototypes, b->prototypes, sizeof *a->prototypes * (size_t)a->prototype_count);
-}
 
 /* ---- Pelt on a plane ---- */
 
@@ -366,293 +328,6 @@ static void bad_parameters_are_named(void **state)
     plm_species_free(&sp);
 }
 
-/* ---- Wing ---- */
-
-static plm_layout make_wing(const plm_species *const *rows, double fold, uint64_t seed)
-{
-    plm_wing_params p = {0};
-    p.fold = fold;
-    p.seed = seed;
-    plm_layout l;
-    plm_error err = {{0}};
-    plm_result rc = plm_layout_wing(&p, rows, &l, &err);
-    if (rc != PLM_OK)
-        fprintf(stderr, "%s\n", err.message);
-    assert_int_equal(rc, PLM_OK);
-    return l;
-}
-
-/* Per grid cell of the wing plane, the feathers over it and their heights. */
-#define CELL_MAX 32
-typedef struct stack_cell {
-    int count;
-    int instance[CELL_MAX];
-    double z[CELL_MAX];
-} stack_cell;
-
-typedef struct stack_grid {
-    double x0, y0, cell;
-    int nx, ny;
-    stack_cell *cells;
-} stack_grid;
-
-/* Records a point of an instance: the highest per cell. */
-static void stack_point(stack_grid *g, int instance, vec3 p)
-{
-    int i = (int)floor((p.x - g->x0) / g->cell), j = (int)floor((p.y - g->y0) / g->cell);
-    if (i < 0 || j < 0 || i >= g->nx || j >= g->ny)
-        return;
-    stack_cell *s = &g->cells[(size_t)j * g->nx + i];
-    int k = 0;
-    while (k < s->count && s->instance[k] != instance)
-        ++k;
-    if (k == s->count) {
-        if (s->count == CELL_MAX)
-            return;
-        s->count++;
-        s->instance[k] = instance;
-        s->z[k] = p.z;
-    }
-    s->z[k] = fmax(s->z[k], p.z);
-}
-
-/* The visible points of each instance (vane vertices in the pennaceous vane
- * or on the rachis, and the rachis tube's) into the grid; the meshes' vertices
- * are about a millimetre apart, finer than the cells. */
-static void stack_layout(stack_grid *g, const plm_layout *l, const plm_feather *f)
-{
-    for (int i = 0; i < l->instance_count; ++i) {
-        const plm_layout_instance *in = &l->instances[i];
-        const plm_feather *ft = &f[in->prototype];
-        for (int k = 0; k < 2; ++k) {
-            const plm_mesh *m = k ? &ft->rachis : &ft->vane;
-            for (int v = 0; v < m->vertex_count; ++v) {
-                if (!k) {
-                    vec2 p = plm_outline_flat(&ft->outline, m->uvs[2 * v], m->uvs[2 * v + 1]);
-                    if (plm_outline_sample(&ft->outline, p.x, p.y).region == PLM_FLAT_BACKGROUND)
-                        continue;
-                }
-                const float *p = m->positions + 3 * v;
-                stack_point(g, i, xf(in, v3(p[0], p[1], p[2])));
-            }
-        }
-    }
-}
-
-static int is_flight(int row) { return row <= PLM_WING_TERTIAL; }
-
-/* A feather's relief in layout units: how far the wing's roll lifts its
- * widest vane's edge above its rachis, plus the rachis's base diameter. */
-static double relief(const plm_layout *l, const plm_layout_instance *in, const plm_feather *f)
-{
-    double widest = 0.0;
-    for (int v = 0; v < f->vane.vertex_count; ++v)
-        widest = fmax(widest, fabs(f->vane.positions[3 * v]));
-    const plm_shape *s = &l->prototypes[in->prototype].shape;
-    return v3_length(column(in, 0)) * (widest * sin(plm_radians(10.0)) + s->rachis_base_width);
-}
-
-/* The alula at the bend of the wing, lying on the feathers there. Each alula
- * feather's basal half (its pennaceous vane points with v < 1/2) is compared
- * with the highest point of the feathers of lower dorsal order in each
- * point's grid cell: at least half of it must lie over them, not in the air
- * beyond the leading edge, and it must rest on them, coming within its own
- * relief of them (its base lying on the wing, not propped on a distant
- * contact). The default scene's alula used to hang ahead of the hand: 7% of
- * its lowest feather's basal half over the wing. */
-static void alula_rests_on(const plm_layout *l, const plm_feather *f, const stack_grid *g)
-{
-    for (int i = 0; i < l->instance_count; ++i) {
-        const plm_layout_instance *in = &l->instances[i];
-        const plm_feather *ft = &f[in->prototype];
-        if (in->row != PLM_WING_ALULA)
-            continue;
-        int points = 0, over = 0;
-        double closest = INFINITY;
-        for (int v = 0; v < ft->vane.vertex_count; ++v) {
-            vec2 p = plm_outline_flat(&ft->outline, ft->vane.uvs[2 * v], ft->vane.uvs[2 * v + 1]);
-            if (ft->vane.uvs[2 * v + 1] >= 0.5f ||
-                plm_outline_sample(&ft->outline, p.x, p.y).region == PLM_FLAT_BACKGROUND)
-                continue;
-            const float *x = ft->vane.positions + 3 * v;
-            vec3 q = xf(in, v3(x[0], x[1], x[2]));
-            size_t ci = (size_t)floor((q.x - g->x0) / g->cell), cj = (size_t)floor((q.y - g->y0) / g->cell);
-            const stack_cell *c = &g->cells[cj * (size_t)g->nx + ci];
-            double beneath = -INFINITY;
-            for (int k = 0; k < c->count; ++k)
-                if (l->instances[c->instance[k]].order < in->order)
-                    beneath = fmax(beneath, c->z[k]);
-            points++;
-            over += beneath > -INFINITY;
-            closest = fmin(closest, q.z - beneath);
-        }
-        double own = relief(l, in, ft);
-        printf("alula feather %d: %.2f of its basal half over the wing, coming within %.4f of it (its relief %.4f)\n",
-               i, (double)over / points, closest, own);
-        assert_true(over >= points / 2);
-        assert_true(closest <= own);
-    }
-}
-
-/* Where two feathers overlap, the one with the larger dorsal order must lie
- * above: counted per cell and pair, for coverts over flight feathers, flight
- * feathers among themselves and coverts among themselves. The same spread
- * wing's alula must rest at the wrist. */
-/* The wing_* presets, one per row. */
-static void load_wing_rows(plm_species *sp, const plm_species **rows)
-{
-    static const char *const names[PLM_WING_ROWS] = {"wing_primary",        "wing_secondary",
-                                                     "wing_tertial",        "wing_covert_greater",
-                                                     "wing_covert_median", "wing_covert_lesser", "wing_alula"};
-    for (int r = 0; r < PLM_WING_ROWS; ++r) {
-        sp[r] = load_preset(names[r]);
-        rows[r] = &sp[r];
-    }
-}
-
-/* A grid of cells 1% of the default chord (0.3) wide over the wing, every
- * placed feather's visible points stacked into it. */
-static stack_grid stack_wing(const plm_layout *l, const plm_feather *f)
-{
-    stack_grid g = {.cell = 0.3 / 100};
-    double hi[2] = {-INFINITY, -INFINITY};
-    g.x0 = g.y0 = INFINITY;
-    for (int i = 0; i < l->instance_count; ++i) {
-        g.x0 = fmin(g.x0, l->instances[i].m[0][3] - 0.5);
-        g.y0 = fmin(g.y0, l->instances[i].m[1][3] - 0.5);
-        hi[0] = fmax(hi[0], l->instances[i].m[0][3] + 0.5);
-        hi[1] = fmax(hi[1], l->instances[i].m[1][3] + 0.5);
-    }
-    g.nx = (int)fmin((hi[0] - g.x0) / g.cell + 1.0, 4096.0);
-    g.ny = (int)fmin((hi[1] - g.y0) / g.cell + 1.0, 4096.0);
-    assert_true(g.nx > 0 && g.ny > 0);
-    g.cells = calloc((size_t)g.nx * (size_t)g.ny, sizeof *g.cells);
-    stack_layout(&g, l, f);
-    return g;
-}
-
-/* The alula check both wing tests end with, then their teardown. */
-static void alula_rests_on_then_free(plm_layout *l, plm_feather *f, stack_grid *g, plm_species *sp)
-{
-    alula_rests_on(l, f, g);
-    free(g->cells);
-    free_prototypes(f, l->prototype_count);
-    plm_layout_free(l);
-    for (int r = 0; r < PLM_WING_ROWS; ++r)
-        plm_species_free(&sp[r]);
-}
-
-static void wing_rows_overlap_in_order(void **state)
-{
-    (void)state;
-    plm_species sp[PLM_WING_ROWS];
-    const plm_species *rows[PLM_WING_ROWS];
-    load_wing_rows(sp, rows);
-    plm_layout l = make_wing(rows, 0.0, 1);
-    plm_feather *f = generate_prototypes(&l, rows);
-    stack_grid g = stack_wing(&l, f);
-    long right[3] = {0}, pairs[3] = {0};
-    for (size_t c = 0; c < (size_t)g.nx * g.ny; ++c) {
-        const stack_cell *s = &g.cells[c];
-        for (int a = 0; a < s->count; ++a)
-            for (int b = 0; b < s->count; ++b) {
-                const plm_layout_instance *upper = &l.instances[s->instance[a]], *lower = &l.instances[s->instance[b]];
-                if (upper->order <= lower->order)
-                    continue;
-                int kind = is_flight(upper->row) ? 1 : (is_flight(lower->row) ? 0 : 2);
-                pairs[kind]++;
-                right[kind] += s->z[a] > s->z[b];
-            }
-    }
-    static const char *const kinds[3] = {"coverts over flight feathers", "flight feathers", "coverts"};
-    for (int k = 0; k < 3; ++k) {
-        printf("%s: %ld overlapping cell pairs, %.4f in order\n", kinds[k], pairs[k], (double)right[k] / pairs[k]);
-        assert_true(pairs[k] > 1000);
-    }
-    assert_true((double)right[0] / pairs[0] > 0.99);
-    assert_true((double)right[1] / pairs[1] > 0.95);
-    assert_true((double)right[2] / pairs[2] > 0.9);
-    alula_rests_on_then_free(&l, f, &g, sp);
-}
-
-/* On presets/scenes/default.json's wing; wing_rows_overlap_in_order checks a
- * spread one's alula too. */
-static void wing_alula_rests_at_the_wrist(void **state)
-{
-    (void)state;
-    plm_species sp[PLM_WING_ROWS];
-    const plm_species *rows[PLM_WING_ROWS];
-    load_wing_rows(sp, rows);
-    const plm_wing_params p = {.fold = 0.1, .sweep = plm_radians(10.0), .seed = 7};
-    plm_layout l;
-    plm_error err = {{0}};
-    assert_int_equal(plm_layout_wing(&p, rows, &l, &err), PLM_OK);
-    plm_feather *f = generate_prototypes(&l, rows);
-    stack_grid g = stack_wing(&l, f);
-    alula_rests_on_then_free(&l, f, &g, sp);
-}
-
-/* Rows, counts, the size ramps and folding. */
-static void wing_rows_and_ramps(void **state)
-{
-    (void)state;
-    plm_species remex = load_preset("remex_pigeon"), covert = load_preset("covert_parrot");
-    const plm_species *rows[PLM_WING_ROWS] = {&remex, &remex, NULL, &covert, &covert, &covert, &covert};
-    plm_layout l = make_wing(rows, 0.0, 2);
-    int count[PLM_WING_ROWS] = {0};
-    double primary[10], secondary[12], span = 0.0;
-    for (int i = 0; i < l.instance_count; ++i) {
-        const plm_layout_instance *in = &l.instances[i];
-        assert_int_equal(l.prototypes[in->prototype].species, in->row);
-        assert_int_equal(in->order, i);
-        /* Layout length of the feather: its rachis length times the matrix scale. */
-        double len = l.prototypes[in->prototype].shape.length * v3_length(column(in, 1)) / in->scale;
-        if (in->row == PLM_WING_PRIMARY)
-            primary[9 - count[in->row]] = len; /* listed from the outermost in */
-        if (in->row == PLM_WING_SECONDARY)
-            secondary[count[in->row]] = len;
-        span = fmax(span, xf(in, v3(0, l.prototypes[in->prototype].shape.length, 0)).x);
-        count[in->row]++;
-    }
-    static const int expected[PLM_WING_ROWS] = {10, 12, 3, 22, 12, 60, 3};
-    for (int r = 0; r < PLM_WING_ROWS; ++r)
-        assert_int_equal(count[r], expected[r]);
-    assert_int_equal(l.prototype_count, PLM_WING_ROWS * 3);
-    /* Primaries lengthen outward to the longest three quarters out, the outermost shorter. */
-    for (int i = 1; i < 7; ++i)
-        assert_true(primary[i] > primary[i - 1]);
-    assert_true(primary[9] < primary[8] && primary[9] > 0.8 * primary[7]);
-    assert_true(primary[7] > 1.3 * secondary[0]);
-    for (int j = 1; j < 12; ++j)
-        assert_true(secondary[j] <= secondary[j - 1] + 1e-12 && secondary[j] > 0.9 * secondary[0]);
-    /* The wingtip near the span (1 by default); folded, the wing is much narrower. */
-    assert_true(span > 0.85 && span < 1.1);
-    plm_layout folded = make_wing(rows, 1.0, 2);
-    double folded_span = 0.0;
-    for (int i = 0; i < folded.instance_count; ++i) {
-        const plm_layout_instance *in = &folded.instances[i];
-        folded_span = fmax(folded_span, xf(in, v3(0, l.prototypes[in->prototype].shape.length, 0)).x);
-    }
-    assert_true(folded_span < 0.4 * span);
-    /* Same seed, same wing. */
-    plm_layout again = make_wing(rows, 0.0, 2);
-    assert_same_layout(&l, &again);
-    plm_error err = {{0}};
-    plm_wing_params bad = {.fold = 1.5};
-    plm_layout none;
-    assert_int_equal(plm_layout_wing(&bad, rows, &none, &err), PLM_ERR_INVALID);
-    assert_non_null(strstr(err.message, "fold"));
-    rows[PLM_WING_PRIMARY] = NULL;
-    bad.fold = 0.0;
-    assert_int_equal(plm_layout_wing(&bad, rows, &none, &err), PLM_ERR_INVALID);
-    assert_non_null(strstr(err.message, "primary"));
-    plm_layout_free(&l);
-    plm_layout_free(&folded);
-    plm_layout_free(&again);
-    plm_species_free(&remex);
-    plm_species_free(&covert);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -662,9 +337,6 @@ int main(void)
         cmocka_unit_test(sphere_pelt_and_ball),
         cmocka_unit_test(mesh_pelt_follows_the_mesh),
         cmocka_unit_test(bad_parameters_are_named),
-        cmocka_unit_test(wing_rows_and_ramps),
-        cmocka_unit_test(wing_rows_overlap_in_order),
-        cmocka_unit_test(wing_alula_rests_at_the_wrist),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
