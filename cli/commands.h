@@ -18,6 +18,7 @@ int bench_masking(int argc, char **argv);
 int probe_fiber(int argc, char **argv);
 int probe_bcsdf(int argc, char **argv);
 int probe_layout(int argc, char **argv);
+int probe_visibility(int argc, char **argv);
 int bench_fiber(int argc, char **argv);
 
 #endif

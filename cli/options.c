@@ -288,3 +288,19 @@ int plm_dispatch(const char *usage_line, const char *kind, const plm_subcommand 
     print_table(stderr, usage_line, kind, table);
     return 2;
 }
+
+/* "640x480" -> 640, 480 (each in [1, 16384]). */
+int plm_parse_resolution(const char *s, int *w, int *h)
+{
+    char *end;
+    long a = strtol(s, &end, 10);
+    if (end == s || (*end != 'x' && *end != 'X'))
+        return 0;
+    const char *p = end + 1;
+    long b = strtol(p, &end, 10);
+    if (end == p || *end || a < 1 || a > 16384 || b < 1 || b > 16384)
+        return 0;
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+}

@@ -58,6 +58,9 @@ void plm_option_range_from(plm_option *o, const plm_param_block *b, const char *
  * range ("(0, 20]"). Returns 0 (message on stderr) if so, else 1. */
 int plm_option_check_open(const plm_option *o, const plm_param_block *b, const char *field);
 
+/* "640x480" -> 640, 480; returns 0 unless both are whole numbers in [1, 16384]. */
+int plm_parse_resolution(const char *s, int *w, int *h);
+
 void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts);
 
 /* Reads the next non-empty line of stdin (stripping '#' comments) and parses

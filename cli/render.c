@@ -167,22 +167,6 @@ int plm_render_job_run(plm_render_job *job)
     return status ? status : (job->interrupted ? 130 : 0);
 }
 
-/* "640x480" -> 640, 480 (each in [1, 16384]). */
-static int parse_resolution(const char *s, int *w, int *h)
-{
-    char *end;
-    long a = strtol(s, &end, 10);
-    if (end == s || (*end != 'x' && *end != 'X'))
-        return 0;
-    const char *p = end + 1;
-    long b = strtol(p, &end, 10);
-    if (end == p || *end || a < 1 || a > 16384 || b < 1 || b > 16384)
-        return 0;
-    *w = (int)a;
-    *h = (int)b;
-    return 1;
-}
-
 int cmd_render(int argc, char **argv)
 {
     static const char *const estimators[] = {"mis", "nee", "bsdf", NULL};
@@ -228,7 +212,7 @@ int cmd_render(int argc, char **argv)
     }
     plm_render_job job;
     memset(&job, 0, sizeof job);
-    if (resolution && !parse_resolution(resolution, &job.width, &job.height)) {
+    if (resolution && !plm_parse_resolution(resolution, &job.width, &job.height)) {
         fprintf(stderr, "error: --resolution: '%s' must be WxH, each a whole number in [1, 16384]\n", resolution);
         return 2;
     }

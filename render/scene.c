@@ -150,6 +150,10 @@ int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance)
     return i;
 }
 
+const char *const plm_part_names[PLM_PART_COUNT + 1] = {"other", "vane", "rachis", "fluff", "body", NULL};
+
+int plm_scene_new_feather(plm_scene *scene) { return ++scene->feather_count; }
+
 int plm_scene_find_mesh(const plm_scene *scene, const char *name)
 {
     for (int i = 0; i < scene->mesh_count; ++i)

@@ -87,10 +87,26 @@ typedef struct plm_scene_mesh {
     plm_mesh mesh;
 } plm_scene_mesh;
 
+/* What part of a bird an instance is, for the ID pass (render/visibility.h):
+ * a feather's vane, rachis or fluffy base, the body (bare skin) or anything else. */
+typedef enum plm_part {
+    PLM_PART_OTHER = 0,
+    PLM_PART_VANE,
+    PLM_PART_RACHIS,
+    PLM_PART_FLUFF,
+    PLM_PART_BODY,
+    PLM_PART_COUNT
+} plm_part;
+
+/* "other", "vane", "rachis", "fluff", "body": in files and reports. */
+extern const char *const plm_part_names[PLM_PART_COUNT + 1]; /* NULL-terminated */
+
 typedef struct plm_instance {
     int mesh, material; /* indices into the scene's arrays */
     plm_xform xform;    /* object to world */
     rgb tint;           /* multiplies the material's scattered colour */
+    int feather;        /* the placed feather it is part of, 1..scene feather_count; 0: none */
+    plm_part part;
 } plm_instance;
 
 typedef struct plm_scene {
@@ -104,6 +120,7 @@ typedef struct plm_scene {
     int material_count, material_capacity;
     plm_instance *instances;
     int instance_count, instance_capacity;
+    int feather_count; /* feathers placed: instances' feather ids run from 1 to it (plm_scene_new_feather) */
 } plm_scene;
 
 /* The camera, film and feather-material blocks' fields and ranges
@@ -126,6 +143,8 @@ int plm_scene_add_mesh(plm_scene *scene, const char *name, plm_mesh *mesh);
 int plm_scene_add_material(plm_scene *scene, const plm_material *material);
 int plm_scene_add_light(plm_scene *scene, const plm_light *light);
 int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance);
+/* A new feather's id (1, 2, ...) for the instances that make it up. */
+int plm_scene_new_feather(plm_scene *scene);
 int plm_scene_find_mesh(const plm_scene *scene, const char *name);
 int plm_scene_find_material(const plm_scene *scene, const char *name);
 

@@ -40,7 +40,7 @@ plm_light plm_quad_light(vec3 corner, vec3 edge_u, vec3 edge_v, rgb radiance)
 
 int plm_scene_add_object(plm_scene *scene, int mesh, int material, plm_xform xform)
 {
-    plm_instance in = {mesh, material, xform, rgb_gray(1.0)};
+    plm_instance in = {.mesh = mesh, .material = material, .xform = xform, .tint = rgb_gray(1.0)};
     return plm_scene_add_instance(scene, &in);
 }
 
@@ -81,7 +81,8 @@ int plm_scene_add_feather_tiles(plm_scene *scene, const plm_tile_feather *feathe
         x = plm_xform_compose(&x, &scale);
         double t = 0.7 + 0.3 * plm_rng_uniform(&rng);
         for (int k = 0; k < feather->count; ++k) {
-            plm_instance in = {feather->mesh[k], feather->material[k], x, rgb_make(t, t * 0.9, 0.8)};
+            plm_instance in = {.mesh = feather->mesh[k], .material = feather->material[k], .xform = x,
+                               .tint = rgb_make(t, t * 0.9, 0.8)};
             if (plm_scene_add_instance(scene, &in) < 0)
                 return 0;
         }

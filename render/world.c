@@ -278,19 +278,29 @@ static plm_result build_instances(plm_world *w, plm_error *err)
     return plm_embree_check(&w->embree, what, err);
 }
 
+vec3 plm_world_frame_position(const plm_world *w, vec3 from, double fov)
+{
+    vec3 c = v3_scale(v3_add(w->bounds_min, w->bounds_max), 0.5);
+    double r = fmax(0.5 * v3_length(v3_sub(w->bounds_max, w->bounds_min)), 1e-3);
+    return v3_madd(c, v3_normalize(from), 1.05 * r / sin(plm_radians(0.5 * fov)));
+}
+
 static void build_camera(plm_world *w)
 {
     const plm_scene *s = w->scene;
     plm_camera_desc d = s->camera;
     if (!d.given) { /* frame the scene's bounding sphere from +z */
-        vec3 c = v3_scale(v3_add(w->bounds_min, w->bounds_max), 0.5);
-        double r = fmax(0.5 * v3_length(v3_sub(w->bounds_max, w->bounds_min)), 1e-3);
-        d.look_at = c;
-        d.position = v3_add(c, v3(0.0, 0.0, 1.05 * r / sin(plm_radians(0.5 * d.fov))));
+        d.look_at = v3_scale(v3_add(w->bounds_min, w->bounds_max), 0.5);
+        d.position = plm_world_frame_position(w, v3(0.0, 0.0, 1.0), d.fov);
     }
-    plm_camera *cam = &w->camera;
-    cam->width = s->film.width;
-    cam->height = s->film.height;
+    plm_camera_from_desc(&d, s->film.width, s->film.height, s->film.far_field, &w->camera);
+}
+
+void plm_camera_from_desc(const plm_camera_desc *desc, int width, int height, int far_field, plm_camera *cam)
+{
+    const plm_camera_desc d = *desc;
+    cam->width = width;
+    cam->height = height;
     cam->position = d.position;
     cam->forward = v3_normalize(v3_sub(d.look_at, d.position));
     vec3 right = v3_normalize(v3_cross(cam->forward, d.up));
@@ -300,7 +310,7 @@ static void build_camera(plm_world *w)
     cam->up = v3_scale(up, tan_half);
     cam->lens_radius = d.aperture;
     /* A pixel's angular width (at the image centre); none with film.far_field. */
-    cam->pixel_spread = s->film.far_field ? 0.0 : 2.0 * tan_half / cam->height;
+    cam->pixel_spread = far_field ? 0.0 : 2.0 * tan_half / cam->height;
     cam->focus_distance = d.focus_distance > 0.0 ? d.focus_distance : v3_length(v3_sub(d.look_at, d.position));
 }
 
@@ -479,6 +489,23 @@ static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, dou
     else if (ctx->kept != hit)
         *hit = *ctx->kept;
     plm_material_surface_finish(hit);
+    return 1;
+}
+
+int plm_world_first_hit(const plm_world *w, vec3 o, vec3 d, double tnear, double tmax, int *instance, double *t)
+{
+    struct RTCRayHit rh;
+    make_ray(&rh.ray, o, d, tmax);
+    rh.ray.tnear = (float)tnear;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    query_context ctx;
+    init_context(&ctx, w, 0);
+    rtcIntersect1(w->top, &ctx.rtc, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        return 0;
+    *instance = (int)rh.hit.instID[0];
+    *t = rh.ray.tfar;
     return 1;
 }
 

@@ -83,6 +83,17 @@ int plm_world_intersect_passing(const plm_world *w, vec3 o, vec3 d, double tmax,
  * order Embree finds them in. */
 double plm_world_transmittance(const plm_world *w, vec3 o, vec3 d, double tmax);
 
+/* The closest surface along o + t d with t in [tnear, tmax), the masks'
+ * background texels removed as for every query: its scene instance and t.
+ * No shading state is made (the ID pass, render/visibility.h). Returns 0 on a miss. */
+int plm_world_first_hit(const plm_world *w, vec3 o, vec3 d, double tnear, double tmax, int *instance, double *t);
+
+/* A camera as the desc says, for a film of width x height (far_field: no pixel cone). */
+void plm_camera_from_desc(const plm_camera_desc *d, int width, int height, int far_field, plm_camera *cam);
+/* Where a camera of vertical field of view fov (degrees) looking from
+ * direction `from` at the centre of the world's bounds sees all of them. */
+vec3 plm_world_frame_position(const plm_world *w, vec3 from, double fov);
+
 /* Camera ray through film position (x, y) in pixels (top-left origin), lens sample (u1, u2). */
 void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u2, vec3 *o, vec3 *d);
 

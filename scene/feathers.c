@@ -170,6 +170,8 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
     int taken = 0;
     if (rc == PLM_OK) {
         out->count = 2;
+        out->part[0] = PLM_PART_VANE;
+        out->part[1] = PLM_PART_RACHIS;
         out->length = extent_y(&f.vane);
         taken = (out->mesh[0] = plm_scene_add_mesh(scene, vane_name, &f.vane)) >= 0 &&
                 (out->mesh[1] = plm_scene_add_mesh(scene, rachis_name, &f.rachis)) >= 0 &&

@@ -21,6 +21,7 @@
 typedef struct plm_feather_parts {
     int count; /* 2 for a generated feather; 1 for a plain mesh */
     int mesh[2], material[2];
+    plm_part part[2]; /* what each is for the ID pass: vane and rachis, or the plain mesh's part */
     double length; /* the feather's extent along its rachis (+y), mm */
 } plm_feather_parts;
 

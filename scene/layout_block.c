@@ -226,7 +226,7 @@ static plm_result add_base(const plm_json_reader *r, const cJSON *obj, const cha
             return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
         }
     }
-    plm_instance in = {mesh_index, material, *xform, rgb_gray(1.0)};
+    plm_instance in = {mesh_index, material, *xform, rgb_gray(1.0), 0, PLM_PART_BODY};
     return plm_scene_add_instance(scene, &in) < 0 ? plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory") : PLM_OK;
 }
 
@@ -255,8 +255,9 @@ static plm_result place(const plm_json_reader *r, const char *path, const plm_la
             continue; /* a degenerate placement has nothing to show */
         plm_xform x = plm_xform_compose(xform, &local);
         const plm_feather_parts *p = &parts[li->prototype];
+        int feather = plm_scene_new_feather(scene);
         for (int k = 0; rc == PLM_OK && k < p->count; ++k) {
-            plm_instance in = {p->mesh[k], p->material[k], x, li->tint};
+            plm_instance in = {p->mesh[k], p->material[k], x, li->tint, feather, p->part[k]};
             if (plm_scene_add_instance(scene, &in) < 0)
                 rc = plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
         }

@@ -463,6 +463,8 @@ static plm_result read_parts(const loader *ld, const plm_json_reader *r, const c
     if (feather) {
         if (mesh_name || material_name)
             return plm_json_fail(r, path, "feather", "give either \"feather\" or \"mesh\" and \"material\"");
+        if (cJSON_GetObjectItemCaseSensitive(obj, "part"))
+            return plm_json_fail(r, path, "part", "a feather's parts are known: \"part\" is for a mesh");
         const named_feather *f = find_feather(ld, feather);
         if (!f)
             return plm_json_fail(r, path, "feather", "\"%s\" is not defined in \"feathers\"", feather);
@@ -472,17 +474,27 @@ static plm_result read_parts(const loader *ld, const plm_json_reader *r, const c
     parts->count = 1;
     parts->mesh[0] = mesh_name ? plm_scene_find_mesh(scene, mesh_name) : -1;
     parts->material[0] = material_name ? plm_scene_find_material(scene, material_name) : -1;
+    int part = PLM_PART_OTHER;
     rc = read_name_ref(r, obj, path, "mesh", parts->mesh[0], "meshes");
     if (rc == PLM_OK)
         rc = read_name_ref(r, obj, path, "material", parts->material[0], "materials");
+    if (rc == PLM_OK)
+        rc = plm_json_enum(r, obj, path, "part", plm_part_names, PLM_PART_OTHER, &part);
+    parts->part[0] = (plm_part)part;
     return rc;
 }
 
+/* Each placement of a feather's parts (or of a mesh that is one) is a feather of its own. */
 static plm_result add_parts(const plm_json_reader *r, plm_scene *scene, const plm_feather_parts *parts,
                             const plm_xform *xform, rgb tint)
 {
+    int feather = 0;
+    for (int k = 0; k < parts->count; ++k)
+        if (!feather && (parts->part[k] == PLM_PART_VANE || parts->part[k] == PLM_PART_RACHIS ||
+                         parts->part[k] == PLM_PART_FLUFF))
+            feather = plm_scene_new_feather(scene);
     for (int k = 0; k < parts->count; ++k) {
-        plm_instance in = {parts->mesh[k], parts->material[k], *xform, tint};
+        plm_instance in = {parts->mesh[k], parts->material[k], *xform, tint, feather, parts->part[k]};
         if (plm_scene_add_instance(scene, &in) < 0)
             return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
     }
@@ -511,7 +523,7 @@ static plm_result read_object(loader *ld, const plm_json_reader *r, const cJSON 
         return read_layout_object(ld, r, obj, path);
     plm_scene *scene = ld->scene;
     static const char *const keys[] = {"mesh", "material", "feather", "layout", "transform", "tint", "instances",
-                                       "tint_jitter", "seed", NULL};
+                                       "tint_jitter", "seed", "part", NULL};
     static const char *const instance_keys[] = {"transform", "tint", NULL};
     plm_feather_parts parts = {0};
     plm_xform xform;

@@ -103,8 +103,8 @@ static void a_world_builds_and_checks(void **state)
     plm_material m;
     memset(&m, 0, sizeof m);
     m.reflectance = rgb_gray(0.5);
-    plm_instance in = {plm_scene_add_mesh(&scene, "q", &quad), plm_scene_add_material(&scene, &m),
-                       plm_xform_identity(), rgb_gray(1.0)};
+    plm_instance in = {.mesh = plm_scene_add_mesh(&scene, "q", &quad), .material = plm_scene_add_material(&scene, &m),
+                       .xform = plm_xform_identity(), .tint = rgb_gray(1.0)};
     assert_true(plm_scene_add_instance(&scene, &in) >= 0);
     plm_world w;
     assert_int_equal(plm_world_build(&scene, &w, &err), PLM_OK);

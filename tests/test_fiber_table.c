@@ -721,8 +721,8 @@ static void estimators_agree(double barb_eccentricity, uint64_t seed)
             px[3 * i] = (float)((sin(plm_radians(60.0)) + 1) / 2), px[3 * i + 1] = (float)((cos(plm_radians(60.0)) + 1) / 2),
             px[3 * i + 2] = 1.0f;
         assert_int_equal(plm_feather_texture_from_pixels(2, 2, px, &m.texture, &err), PLM_OK);
-        plm_instance in = {plm_scene_add_mesh(&s, "vane", &mesh), plm_scene_add_material(&s, &m),
-                           plm_xform_identity(), rgb_gray(1.0)};
+        plm_instance in = {.mesh = plm_scene_add_mesh(&s, "vane", &mesh), .material = plm_scene_add_material(&s, &m),
+                           .xform = plm_xform_identity(), .tint = rgb_gray(1.0)};
         assert_true(plm_scene_add_instance(&s, &in) >= 0);
         plm_light sky, sun;
         memset(&sky, 0, sizeof sky);

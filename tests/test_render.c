@@ -538,7 +538,8 @@ static void mask_filters_remove_background(void **state)
     /* A curled vane (triangles all on background are left out of the BVH) and
      * a texture that is background everywhere (no triangle at all). */
     int curled = add_quad_mesh(&s, "curled", 1, 1, 0.5);
-    plm_instance in = {curled, mat, plm_xform_translate(v3(0, 0, 5)), rgb_gray(1.0)};
+    plm_instance in = {.mesh = curled, .material = mat, .xform = plm_xform_translate(v3(0, 0, 5)),
+                       .tint = rgb_gray(1.0)};
     plm_scene_add_instance(&s, &in);
     memset(&m, 0, sizeof m);
     snprintf(m.name, sizeof m.name, "nothing");
