@@ -7,6 +7,8 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
+#include "cli/species_sheet.h"
 #include "common/image_io.h"
 #include "common/json.h"
 #include "texture/feather.h"
@@ -14,77 +16,19 @@
 
 static const char *const formats[] = {"both", "exr", "png", NULL};
 
-/* Species files named on the command line, as plm_species loads them. */
-static int load_species(const char *path, plm_species *sp)
-{
-    plm_error err;
-    if (plm_species_load(path, sp, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        return 0;
-    }
-    return 1;
-}
+/* The contact sheet generates as a scene does: of the feather's options it takes these. */
+#define SHEET_ONLY_OPTIONS "--spp --tile --columns --threads --quiet "
+#define SHEET_OPTIONS SHEET_ONLY_OPTIONS "--contact-sheet --texture-size --level "
+enum { FIRST_MESH_OPTION = 9 }; /* --level: where the options `texture` takes end */
 
-/* The species file's optics block for feather.json (the generator does not keep it). */
-static cJSON *load_optics(const char *path)
+/* name is one of the space-separated words of list. */
+static int in_list(const char *list, const char *name)
 {
-    cJSON *root = NULL;
-    plm_error err;
-    if (plm_json_load(path, &root, &err) != PLM_OK)
-        return NULL;
-    cJSON *optics = cJSON_DetachItemFromObjectCaseSensitive(root, "optics");
-    cJSON_Delete(root);
-    return optics;
-}
-
-/* Three panels per feather: an oblique view, a side view (bend and curl)
- * and the texture with traced barbs; feathers side by side. */
-static int contact_sheet(const char *out, const char **files, int n, const plm_feather_options *opt, int tile)
-{
-    const int panel_w[3] = {tile / 2, tile / 4, tile / 2};
-    int column = panel_w[0] + panel_w[1] + panel_w[2], width = column * n;
-    float *sheet = calloc((size_t)width * tile * 3, sizeof(float));
-    float *panel = malloc(sizeof(float) * (size_t)tile * tile * 3);
-    int ok = sheet && panel;
-    for (int s = 0; ok && s < n; ++s) {
-        plm_species sp;
-        plm_feather f;
-        plm_error err;
-        if (!load_species(files[s], &sp))
-            ok = 0;
-        else if (plm_feather_generate(&sp, opt, &f, &err) != PLM_OK) {
-            fprintf(stderr, "error: %s: %s\n", files[s], err.message);
-            plm_species_free(&sp);
-            ok = 0;
-        }
-        if (!ok)
-            break;
-        int x0 = s * column;
-        for (int p = 0; p < 3; ++p) {
-            int w = panel_w[p];
-            if (p == 0)
-                plm_preview_shape(&f, 25.0, 15.0, w, tile, panel);
-            else if (p == 1)
-                plm_preview_shape(&f, 88.0, 5.0, w, tile, panel);
-            else
-                plm_preview_texture(&f, f.outline.vane_length / 40.0, w, tile, panel);
-            for (int j = 0; j < tile; ++j)
-                memcpy(sheet + 3 * ((size_t)j * width + x0), panel + 3 * (size_t)j * w, sizeof(float) * 3 * w);
-            x0 += w;
-        }
-        plm_feather_free(&f);
-        plm_species_free(&sp);
-    }
-    plm_error err;
-    if (ok && plm_image_write_srgb_png(out, width, tile, sheet, 0.0, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        ok = 0;
-    }
-    if (!sheet || !panel)
-        fprintf(stderr, "error: out of memory for the contact sheet\n");
-    free(sheet);
-    free(panel);
-    return ok ? 0 : 1;
+    size_t n = strlen(name);
+    for (const char *p = strstr(list, name); p; p = strstr(p + 1, name))
+        if ((p == list || p[-1] == ' ') && p[n] == ' ')
+            return 1;
+    return 0;
 }
 
 /* A close-up of the barb coordinate: twelve barb spacings square, centred
@@ -105,11 +49,79 @@ static plm_result barb_preview(const plm_feather *f, const char *out, plm_error 
     return rc;
 }
 
+/* The files plm_feather_write or plm_feather_write_textures wrote, by name. */
+static void list_files(const plm_feather *f, const plm_feather_options *fo, const plm_feather_files *files, char *out,
+                       size_t size)
+{
+    static const char *const names[] = {"vane.ply", "rachis.ply", "vane.obj", "rachis.obj", "texture.exr",
+                                        "texture.png", "pigment.exr", "pigment.png", "feather.json"};
+    int meshes = !fo->no_meshes, wanted[] = {meshes, meshes, meshes && files->obj, meshes && files->obj,
+                                             !files->no_exr, !files->no_png, !files->no_exr && f->pigment.pixels,
+                                             !files->no_png && f->pigment.pixels, meshes};
+    out[0] = '\0';
+    for (size_t i = 0, n = 0; i < sizeof names / sizeof names[0]; ++i)
+        if (wanted[i])
+            n += (size_t)snprintf(out + n, n < size ? size - n : 0, "%s%s", n ? " " : "", names[i]);
+}
+
+/* One feather (or its textures alone, `fo->no_meshes`) into the folder out.
+ * The species and its optics are read, and the outputs checked, first. */
+static int one_feather(const char *species, const char *out, const char *barb_png, const plm_feather_options *fo,
+                       const plm_feather_files *files)
+{
+    plm_species sp;
+    plm_error err;
+    if (plm_species_load(species, &sp, &err) != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        return 1;
+    }
+    cJSON *optics = NULL;
+    plm_outputs outputs = {0};
+    plm_result r = PLM_OK;
+    if (!fo->no_meshes && plm_json_load(species, &optics, &err) == PLM_OK) {
+        cJSON *block = cJSON_DetachItemFromObjectCaseSensitive(optics, "optics");
+        cJSON_Delete(optics);
+        optics = block;
+    }
+    if (r == PLM_OK && !(plm_outputs_folder(&outputs, "-o", out) && (!barb_png || plm_outputs_file(&outputs, "--barb-preview", barb_png)))) {
+        plm_species_free(&sp);
+        cJSON_Delete(optics);
+        return 1;
+    }
+    plm_feather f;
+    char summary[512] = "";
+    if (r == PLM_OK && (r = plm_feather_generate(&sp, fo, &f, &err)) == PLM_OK) {
+        int n = snprintf(summary, sizeof summary, "%s: ", species);
+        if (!fo->no_meshes)
+            n += snprintf(summary + n, sizeof summary - (size_t)n, "vane %d triangles, rachis %d triangles, ",
+                          f.vane.triangle_count, f.rachis.triangle_count);
+        n += snprintf(summary + n, sizeof summary - (size_t)n, "textures %dx%d: ", fo->texture_width, fo->texture_height);
+        r = fo->no_meshes ? plm_feather_write_textures(&f, out, files, &err)
+                          : plm_feather_write(&f, optics, out, files, &err);
+        list_files(&f, fo, files, summary + n, sizeof summary - (size_t)n);
+        if (r == PLM_OK && barb_png)
+            r = barb_preview(&f, barb_png, &err);
+        plm_feather_free(&f);
+    }
+    plm_species_free(&sp);
+    cJSON_Delete(optics);
+    if (r != PLM_OK) {
+        fprintf(stderr, "error: %s\n", err.message);
+        plm_outputs_undo(&outputs);
+        return 1;
+    }
+    char folder[PLM_OUTPUTS_PATH];
+    snprintf(folder, sizeof folder, "%s%s", out, out[0] && out[strlen(out) - 1] == '/' ? "" : "/");
+    fprintf(stderr, "%s\n", summary);
+    plm_print_wrote((const char *const[]){folder, barb_png}, 2);
+    return 0;
+}
+
 static int run(int argc, char **argv, int textures_only)
 {
     const char *species = NULL, *output = NULL, *sheet = NULL, *barb_png = NULL;
     int level = PLM_FEATHER_DEFAULT_LEVEL, size = 1024, tw = 0, th = 0, obj = 0, no_pigment = 0, format = 0;
-    int tile = 512;
+    plm_species_sheet_options so = {.spp = 16, .tile = 384};
     plm_option opts[] = {
         {"--species", PLM_OPT_STRING, &species, 0, 0, 0, NULL, "FILE", "species preset (presets/species/*.json)", 0},
         {"-o", PLM_OPT_STRING, &output, 0, 0, 0, NULL, "DIR", "output directory (created if missing)", 0},
@@ -125,7 +137,13 @@ static int run(int argc, char **argv, int textures_only)
         {"--obj", PLM_OPT_FLAG, &obj, 0, 0, 0, NULL, NULL, "also write the meshes as OBJ", 0},
         {"--contact-sheet", PLM_OPT_STRING, &sheet, 0, 0, 0, NULL, "PNG",
          "instead: a contact sheet of the species files given as arguments", 0},
-        {"--tile", PLM_OPT_INT, &tile, 0, 64, 4096, NULL, "N", "contact sheet panel height in pixels (default 512)", 0},
+        {"--spp", PLM_OPT_INT, &so.spp, 0, 1, 1 << 20, NULL, "N", "contact sheet: samples per pixel (default 16)", 0},
+        {"--tile", PLM_OPT_INT, &so.tile, 0, 32, 4096, NULL, "N",
+         "contact sheet: height of a view in pixels; its width is half (default 384)", 0},
+        {"--columns", PLM_OPT_INT, &so.columns, 0, 1, 64, NULL, "N", "contact sheet: species per row (default 6)", 0},
+        {"--threads", PLM_OPT_INT, &so.threads, 0, 1, 1024, NULL, "N", "contact sheet: render threads (default: all cores)",
+         0},
+        {"--quiet", PLM_OPT_FLAG, &so.quiet, 0, 0, 0, NULL, NULL, "contact sheet: no progress lines", 0},
     };
     const plm_command_help generate_help = {
         "plumage generate --species FILE -o DIR [options]\n       plumage generate --contact-sheet OUT.png "
@@ -141,11 +159,16 @@ static int run(int argc, char **argv, int textures_only)
     const plm_command_help *help = textures_only ? &texture_help : &generate_help;
     const char *positional[64];
     int n_pos = 0, n_opts = (int)(sizeof opts / sizeof opts[0]);
-    /* The mesh and sheet options (the last four) mean nothing to `texture`. */
-    int rc = plm_parse_options(help, argc, argv, 1, opts, textures_only ? n_opts - 4 : n_opts, positional,
+    /* The mesh and sheet options (from --level on) mean nothing to `texture`. */
+    int rc = plm_parse_options(help, argc, argv, 1, opts, textures_only ? FIRST_MESH_OPTION : n_opts, positional,
                                textures_only ? 0 : 64, &n_pos);
     if (rc)
         return rc == 1 ? 0 : 2;
+    for (int i = 0; i < n_opts; ++i)
+        if (opts[i].seen && (sheet ? !in_list(SHEET_OPTIONS, opts[i].name) : in_list(SHEET_ONLY_OPTIONS, opts[i].name))) {
+            fprintf(stderr, "error: %s %s --contact-sheet\n", opts[i].name, sheet ? "does not apply to" : "applies only to");
+            return 2;
+        }
     plm_feather_options fo = {.level = level, .texture_width = tw ? tw : size, .texture_height = th ? th : size,
                               .no_pigment = no_pigment, .no_meshes = textures_only};
     if (sheet) {
@@ -153,42 +176,15 @@ static int run(int argc, char **argv, int textures_only)
             fprintf(stderr, "error: --contact-sheet takes species files as arguments (and no --species or -o)\n");
             return 2;
         }
-        return contact_sheet(sheet, positional, n_pos, &fo, tile);
+        so.level = level;
+        so.texture_size = size;
+        return plm_species_sheet(sheet, positional, n_pos, &so);
     }
     if (!species || !output || n_pos) {
         fprintf(stderr, "error: plumage %s needs --species FILE and -o DIR (see --help)\n", argv[0]);
         return 2;
     }
-    plm_species sp;
-    if (!load_species(species, &sp))
-        return 1;
-    cJSON *optics = load_optics(species);
-    plm_feather f;
-    plm_error err;
-    plm_feather_files files = {obj, format == 2, format == 1};
-    int triangles[2] = {0, 0};
-    plm_result r = plm_feather_generate(&sp, &fo, &f, &err);
-    if (r == PLM_OK) {
-        triangles[0] = f.vane.triangle_count;
-        triangles[1] = f.rachis.triangle_count;
-        r = textures_only ? plm_feather_write_textures(&f, output, &files, &err)
-                          : plm_feather_write(&f, optics, output, &files, &err);
-        if (r == PLM_OK && barb_png)
-            r = barb_preview(&f, barb_png, &err);
-        plm_feather_free(&f);
-    }
-    plm_species_free(&sp);
-    cJSON_Delete(optics);
-    if (r != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
-        return 1;
-    }
-    if (textures_only)
-        printf("%s: textures %dx%d -> %s\n", species, fo.texture_width, fo.texture_height, output);
-    else
-        printf("%s: vane %d triangles, rachis %d triangles, textures %dx%d -> %s/feather.json\n", species,
-               triangles[0], triangles[1], fo.texture_width, fo.texture_height, output);
-    return 0;
+    return one_feather(species, output, barb_png, &fo, &(plm_feather_files){obj, format == 2, format == 1});
 }
 
 int cmd_generate(int argc, char **argv) { return run(argc, argv, 0); }

@@ -97,17 +97,23 @@ plm_result plm_write_file(const char *path, const void *data, size_t size, plm_e
     return plm_atomic_commit(&f, err);
 }
 
-plm_result plm_make_dirs(const char *path, plm_error *err)
+plm_result plm_make_dirs_noting(const char *path, char *first_created, size_t size, plm_error *err)
 {
     char buf[4096];
+    if (first_created && size)
+        first_created[0] = '\0';
     if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
         return plm_fail(err, PLM_ERR_INVALID, "%s: path is too long", path);
     for (char *p = buf + 1;; ++p) {
         char c = *p;
         if (c == '/' || c == '\0') {
             *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            if (mkdir(buf, 0777) == 0) {
+                if (first_created && size && !first_created[0])
+                    snprintf(first_created, size, "%s", buf);
+            } else if (errno != EEXIST) {
                 return plm_fail(err, PLM_ERR_IO, "%s: cannot create directory: %s", buf, strerror(errno));
+            }
             *p = c;
         }
         if (c == '\0')
@@ -118,6 +124,8 @@ plm_result plm_make_dirs(const char *path, plm_error *err)
         return plm_fail(err, PLM_ERR_IO, "%s: not a directory", path);
     return PLM_OK;
 }
+
+plm_result plm_make_dirs(const char *path, plm_error *err) { return plm_make_dirs_noting(path, NULL, 0, err); }
 
 plm_result plm_read_file(const char *path, size_t max_size, char **out, size_t *size, plm_error *err)
 {

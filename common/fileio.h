@@ -38,6 +38,9 @@ plm_result plm_write_file(const char *path, const void *data, size_t size, plm_e
 
 /* Creates a directory and its parents if missing. */
 plm_result plm_make_dirs(const char *path, plm_error *err);
+/* The same, noting in first_created (size bytes) the outermost directory it
+ * created ("" if it created none): removing that and the ones below it undoes it. */
+plm_result plm_make_dirs_noting(const char *path, char *first_created, size_t size, plm_error *err);
 
 /* Reads a whole regular file of at most max_size bytes into a malloc'd
  * buffer with a NUL after the last byte (*size excludes it). Devices, pipes

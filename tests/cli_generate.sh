@@ -89,9 +89,7 @@ expect_stderr "unknown option" "--frobnicate" "$PLUMAGE" generate --frobnicate
 expect_stderr "level out of range" "--level" "$PLUMAGE" generate --species "$SPECIES/remex_pigeon.json" -o y --level 9
 expect_fail "no output directory" "$PLUMAGE" generate --species "$SPECIES/remex_pigeon.json"
 
-# Contact sheet and benchmark.
-expect_ok "contact sheet" "$PLUMAGE" generate --contact-sheet sheet.png --tile 128 --texture-size 128 "$SPECIES"/*.json
-expect_image "contact sheet" "[0-9]+" 128 sheet.png
+# Benchmark.
 expect_output "bench generate" "generate_ms [0-9.]+" "$PLUMAGE" bench generate --species "$SPECIES/remex_pigeon.json" \
     --runs 1 --texture-size 64
 finish

@@ -47,6 +47,19 @@ expect_image() {
         END { if (seen != want) print "read " seen " of " want " images" }')
     if [ -n "$bad" ]; then fail "$n: $(echo $bad)"; else pass "$n"; fi
 }
+# expect_label NAME IMAGE WxH+X+Y BASELINE_X BASELINE_Y SIZE BACKGROUND INK TEXT: the region of IMAGE
+# (an 8-bit sRGB PNG) holds TEXT as plm_image_draw_text draws it in DejaVu Sans (SIZE pixels, linear
+# INK "r,g,b" over linear BACKGROUND, the baseline's left end at BASELINE_X, BASELINE_Y in the region),
+# pixel for pixel: oiiotool draws the expected text with the same library and font.
+expect_label() {
+    local n=$1 image=$2 geom=$3 x=$4 y=$5 size=$6 bg=$7 ink=$8 text=$9 wh=${3%%+*}
+    oiiotool "$image" --cut "$geom" -o "label_got.png" &&
+    oiiotool --create "$wh" 3 --fill:color="$bg" "0,0,${wh%x*},${wh#*x}" \
+        --text:x="$x":y="$y":size="$size":color="$ink":font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf "$text" \
+        --colorconvert linear sRGB -d uint8 -o "label_want.png" 2>/dev/null
+    if idiff -q -fail 0 -warn 0 label_got.png label_want.png >/dev/null 2>&1; then pass "$n"
+    else fail "$n: $geom of $image does not read \"$text\""; fi
+}
 # same_pixels A B: the two images have identical pixels (headers are not compared).
 same_pixels() { idiff -q -fail 0 -warn 0 "$1" "$2" >/dev/null 2>&1; }
 # kill_batch_mid_job MANIFEST JOB_DIR FILE: runs `plumage batch MANIFEST --parallel 1 --quiet` in the
