@@ -13,8 +13,8 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "render/feather_bsdf.h"
-#include "render/fiber_table.h"
+#include "optics/feather_bsdf.h"
+#include "optics/fiber_table.h"
 
 /* Powers of two, cycled with a mask. Queries are many so branches cannot be
  * learnt; prepared sets few, because a renderer evaluates the set it has just

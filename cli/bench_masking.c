@@ -13,9 +13,9 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/rng.h"
-#include "render/feather_bsdf.h"
-#include "render/masking.h"
-#include "render/nearfield.h"
+#include "optics/feather_bsdf.h"
+#include "optics/masking.h"
+#include "optics/nearfield.h"
 
 #define DIRECTIONS 4096
 /* The synthetic vane of the near-field timing: a unit square with barbs at

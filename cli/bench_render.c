@@ -17,7 +17,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/memory.h"
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 #include "render/render.h"
 #include "render/scene_build.h"
 #include "scene/feathers.h"

@@ -4,7 +4,7 @@
 #define PLUMAGE_CLI_FIBER_CLI_H
 
 #include "cli/options.h"
-#include "render/fiber.h"
+#include "optics/fiber.h"
 
 /* Command-line values (angles in degrees), filled with the defaults by plm_fiber_cli_options. */
 typedef struct plm_fiber_cli {

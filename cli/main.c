@@ -1,5 +1,5 @@
 /* plumage: the command-line front end. Each subcommand is a thin layer over
- * one stage's library (generate/, texture/, render/). */
+ * one stage's library (generate/, texture/, optics/, render/). */
 #include <stdio.h>
 #include <string.h>
 

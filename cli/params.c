@@ -10,8 +10,8 @@
 #include "generate/layout.h"
 #include "generate/wing.h"
 #include "generate/species.h"
-#include "render/feather_bsdf.h"
-#include "render/pigment.h"
+#include "optics/feather_bsdf.h"
+#include "optics/pigment.h"
 #include "render/scene.h"
 #include "scene/layout_block.h"
 

@@ -36,7 +36,7 @@ void plm_fiber_cli_options(plm_fiber_cli *c, plm_option *opts, int max_lobes)
         {"--lobes", PLM_OPT_INT, &c->lobes, 1, 1, max_lobes, NULL, "N", "lobes traced per path; default 5", 0},
     };
     memcpy(opts, table, sizeof table);
-    /* The ranges are the fiber table's (render/fiber.h), as in scene files. */
+    /* The ranges are the fiber table's (optics/fiber.h), as in scene files. */
     static const char *const fields[PLM_FIBER_CLI_OPTIONS - 1] = {
         "eccentricity", "eta", "sigma_a", "beta_m", "beta_n", "medulla_axes", "medulla_centre", "medulla_reflectance"};
     for (int i = 0; i < PLM_FIBER_CLI_OPTIONS - 1; ++i)

@@ -9,7 +9,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/image_io.h"
-#include "render/masking.h"
+#include "optics/masking.h"
 #include "render/masking_reference.h"
 
 static const char *const level_names[] = {"full", "barbule", "barb", NULL};
@@ -354,7 +354,7 @@ int probe_masking(int argc, char **argv)
         [OPT_WIDTH] = {"--width", PLM_OPT_INT, &a.width, 0, 8, 4096, NULL, "PIXELS",
                        "width of each picture panel; height is half (default 240)", 0},
     };
-    /* The geometry's ranges are the masking table's (render/masking.h), as in scene files. */
+    /* The geometry's ranges are the masking table's (optics/masking.h), as in scene files. */
     static const struct { int option; const char *field; } from_table[] = {
         {OPT_BARB_E, "barb_eccentricity"},   {OPT_BARBULE_E, "barbule_eccentricity"},
         {OPT_LENGTH, "barbule_length"},      {OPT_SEPARATION, "barbule_separation"},

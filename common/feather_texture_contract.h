@@ -1,6 +1,6 @@
 /* The feather-texture contract: the one place that says how a feather
  * texture (and its pigment image) encodes what the generator knows. texture/
- * writes it, render/ reads it; neither knows the other.
+ * writes it, optics/ reads it; neither knows the other.
  *
  * Feather texture, 3 float channels, top row first:
  *   PLM_FTEX_COS, PLM_FTEX_SIN  (cos a + 1) / 2 and (sin a + 1) / 2, where

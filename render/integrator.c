@@ -1,6 +1,6 @@
 #include "render/integrator.h"
 
-#include "render/sampling.h"
+#include "common/sampling.h"
 
 typedef enum segment_end { END_ESCAPED, END_LIGHT, END_SURFACE } segment_end;
 
@@ -126,7 +126,7 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
     double visible = plm_shadow_transmittance(w, o, ls.wi, ls.dist, rays);
     if (visible <= 0.0)
         return rgb_gray(0.0);
-    /* MIS weighs against the BSDF's sampling, technique by technique (render/bsdf.h). */
+    /* MIS weighs against the BSDF's sampling, technique by technique (optics/bsdf.h). */
     int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
     double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
     rgb f = weighted ? plm_bsdf_eval_mis(bsdf, ls.wi, light_pdf) : plm_bsdf_eval(bsdf, ls.wi);

@@ -7,7 +7,7 @@
 #define PLUMAGE_RENDER_INTEGRATOR_H
 
 #include "common/rng.h"
-#include "render/sampling.h"
+#include "common/sampling.h"
 #include "render/world.h"
 
 typedef enum plm_estimator {
@@ -16,7 +16,7 @@ typedef enum plm_estimator {
     PLM_ESTIMATOR_BSDF = 2  /* BSDF sampling only: emission found by bounce rays (misses delta lights) */
 } plm_estimator;
 
-/* The sampler's dimension pairs (render/sampling.h): the camera's, then
+/* The sampler's dimension pairs (common/sampling.h): the camera's, then
  * three per path vertex: its light sample, its BSDF sample's first two
  * numbers, and the passing of the ray that reached it with the BSDF
  * sample's third number. */

@@ -9,7 +9,7 @@
 
 #include "common/error.h"
 #include "common/vec.h"
-#include "render/sampling.h"
+#include "common/sampling.h"
 #include "render/scene.h"
 
 /* An environment map's importance sampling: a 2D piecewise-constant density

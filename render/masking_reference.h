@@ -28,7 +28,7 @@
 #include <stdint.h>
 
 #include "common/error.h"
-#include "render/masking.h"
+#include "optics/masking.h"
 
 typedef struct plm_masking_reference_options {
     int barbs;            /* barbs per period of the scene along b (default 16) */

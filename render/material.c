@@ -1,9 +1,9 @@
 /* Materials behind the plm_bsdf interface: the diffuse BSDF here, the feather
- * (render/feather_bsdf.c) dispatched to by type. */
-#include "render/bsdf.h"
-#include "render/feather_bsdf.h"
-#include "render/nearfield.h"
-#include "render/sampling.h"
+ * (optics/feather_bsdf.c) dispatched to by type. */
+#include "render/material.h"
+#include "optics/feather_bsdf.h"
+#include "optics/nearfield.h"
+#include "common/sampling.h"
 
 _Static_assert(sizeof(plm_feather_bsdf) <= PLM_BSDF_STATE_BYTES, "plm_bsdf.state must hold a feather BSDF");
 

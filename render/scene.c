@@ -1,6 +1,6 @@
 /* Scene storage, builders and the built-in shapes. */
 #include "render/scene.h"
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 
 #include <stddef.h>
 #include <stdio.h>

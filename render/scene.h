@@ -13,7 +13,7 @@
 #include "common/mesh.h"
 #include "common/params.h"
 #include "common/vec.h"
-#include "render/feather_texture.h"
+#include "optics/feather_texture.h"
 #include "render/transform.h"
 
 #define PLM_NAME_MAX 128
@@ -63,7 +63,7 @@ typedef enum plm_material_type {
     PLM_MATERIAL_FEATHER = 1
 } plm_material_type;
 
-struct plm_feather_params; /* render/feather_bsdf.h */
+struct plm_feather_params; /* optics/feather_bsdf.h */
 
 typedef struct plm_material {
     char name[PLM_NAME_MAX];

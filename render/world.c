@@ -2,7 +2,7 @@
  * surface hits in world space, and the camera. */
 #include "render/world.h"
 
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 
 #include <float.h>
 #include <stdio.h>

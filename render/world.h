@@ -6,7 +6,7 @@
 
 #include <embree3/rtcore.h>
 
-#include "render/bsdf.h"
+#include "render/material.h"
 #include "render/embree.h"
 #include "render/light.h"
 #include "render/scene.h"

@@ -7,7 +7,7 @@
 
 #include "common/json.h"
 #include "generate/layout.h"
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 #include "scene/scene_file.h"
 #include "texture/feather.h"
 #include "texture/texture.h"

@@ -10,8 +10,8 @@
 
 #include "common/json_set.h"
 #include "common/rng.h"
-#include "render/feather_bsdf.h"
-#include "render/pigment.h"
+#include "optics/feather_bsdf.h"
+#include "optics/pigment.h"
 #include "scene/feathers.h"
 #include "scene/layout_block.h"
 #include "texture/feather.h"
@@ -251,7 +251,7 @@ static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const ch
     return rc == PLM_OK ? plm_shape_sphere(radius, rings, m, r->err) : rc;
 }
 
-/* "pigments": concentrations that give the cortex's sigma_a (render/pigment.h). */
+/* "pigments": concentrations that give the cortex's sigma_a (optics/pigment.h). */
 static plm_result read_pigments(const plm_json_reader *r, const cJSON *fiber, const cJSON *obj,
                                 const char *fiber_path, plm_fiber_params *p)
 {

@@ -5,7 +5,7 @@
 #ifndef PLUMAGE_TESTS_FIBER_STATS_H
 #define PLUMAGE_TESTS_FIBER_STATS_H
 
-#include "render/fiber_table.h"
+#include "optics/fiber_table.h"
 #include "tests/chi_square.h"
 
 /* The stochastic BCSDF of a traced lobe set. */

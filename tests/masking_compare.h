@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "render/masking.h"
+#include "optics/masking.h"
 #include "render/masking_reference.h"
 
 typedef struct masking_agreement {

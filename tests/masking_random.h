@@ -4,7 +4,7 @@
 #define PLUMAGE_TESTS_MASKING_RANDOM_H
 
 #include "common/rng.h"
-#include "render/masking.h"
+#include "optics/masking.h"
 
 static inline double uniform(plm_rng *rng, double lo, double hi) { return lo + (hi - lo) * plm_rng_uniform(rng); }
 

@@ -10,7 +10,7 @@
 
 #include <stdio.h>
 
-#include "render/fiber.h"
+#include "optics/fiber.h"
 #include "tests/fiber_stats.h"
 
 /* A random valid fiber: eccentricity, index, roughness, and (half the time)

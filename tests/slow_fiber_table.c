@@ -90,7 +90,7 @@ static void figure7_fibers(void **state)
     assert_true(worst <= 0.01);
 }
 
-/* The default feather's barb (render/feather_bsdf.c): a circular cortex
+/* The default feather's barb (optics/feather_bsdf.c): a circular cortex
  * with a concentric white medulla of radius 0.6. */
 static void default_barb(void **state)
 {

@@ -19,7 +19,7 @@
 #include "common/memory.h"
 #include "common/params.h"
 #include "common/rng.h"
-#include "render/sampling.h"
+#include "common/sampling.h"
 
 /* The distance from y to the next double away from zero. */
 static double ulp(double y) { return nextafter(fabs(y), INFINITY) - fabs(y); }

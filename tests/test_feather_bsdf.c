@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 #include "render/render.h"
 #include "render/scene_build.h"
 #include "test_feather_bsdf_stats.h"

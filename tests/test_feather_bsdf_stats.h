@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/bsdf.h"
-#include "render/feather_bsdf.h"
-#include "render/sampling.h"
+#include "render/material.h"
+#include "optics/feather_bsdf.h"
+#include "common/sampling.h"
 #include "tests/assert_double.h"
 #include "tests/chi_square.h"
 

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "render/fiber.h"
+#include "optics/fiber.h"
 
 /* Unpolarised Fresnel reflectance written out from the textbook amplitudes,
  * independently of the tracer's (eta = n_t / n_i). */

@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "render/fiber.h"
+#include "optics/fiber.h"
 #include "tests/assert_double.h"
 #include "tests/fiber_stats.h"
 

@@ -1,4 +1,4 @@
-/* The tabulated fiber BCSDF (render/fiber_table.h, fiber_medulla_table.h):
+/* The tabulated fiber BCSDF (optics/fiber_table.h, fiber_medulla_table.h):
  * accuracy against a first-principles mean over h, the tracer split at the
  * medulla that the medulla table builds on, white furnace (with and without
  * a medulla), chi-square of sample against pdf, determinism, agreement with
@@ -20,7 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 #include "render/render.h"
 #include "tests/fiber_stats.h"
 #include "tests/fiber_table_stats.h"

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "common/rng.h"
-#include "render/masking.h"
+#include "optics/masking.h"
 
 #include "masking_random.h"
 

@@ -16,8 +16,8 @@
 
 #include "common/image_io.h"
 #include "common/rng.h"
-#include "render/masking.h"
-#include "render/nearfield.h"
+#include "optics/masking.h"
+#include "optics/nearfield.h"
 
 #include "masking_random.h"
 

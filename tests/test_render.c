@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "render/render.h"
-#include "render/sampling.h"
+#include "common/sampling.h"
 #include "render/scene_build.h"
 #include "tests/chi_square.h"
 #include "test_render_stats.h"

@@ -52,7 +52,7 @@ static inline estimate film_region_mean(const plm_world *w, plm_estimator est, i
 }
 
 /* The same mean over the whole film from `keys` independent runs of the
- * stratified sampler (render/sampling.h) as the renderer uses it, each
+ * stratified sampler (common/sampling.h) as the renderer uses it, each
  * averaging spp samples whose film position (uniform over the film, as if it
  * were one pixel), light and BSDF samples are stratified; the standard error
  * is that of the runs' means, which are iid. */

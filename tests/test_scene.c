@@ -16,7 +16,7 @@
 #include "common/fileio.h"
 #include "common/image_io.h"
 #include "generate/species.h"
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 #include "render/scene.h"
 #include "scene/scene_file.h"
 

@@ -3,7 +3,7 @@
  * region and a unit direction. */
 #include <math.h>
 
-#include "render/feather_texture.h"
+#include "optics/feather_texture.h"
 #include "tests/fuzz/fuzz_input.h"
 
 static void check_lookups(const plm_feather_texture *t)

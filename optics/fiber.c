@@ -9,7 +9,7 @@
  *   eval(wi) cos(theta_i) = sum_k A_k G_M G_N / cos(theta_i)
  * integrates to sum_k A_k over the sphere, and sampling G_M and G_N exactly
  * gives pdf = sum_k P_k G_M G_N / cos(theta_i). */
-#include "render/fiber.h"
+#include "optics/fiber.h"
 
 #include <float.h>
 

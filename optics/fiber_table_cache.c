@@ -5,7 +5,7 @@
  * are written to a temporary name and renamed into place, so processes
  * building the same table at once each leave a complete file, and the last
  * rename wins. */
-#include "render/fiber_table.h"
+#include "optics/fiber_table.h"
 
 #include <stdint.h>
 #include <stdio.h>

@@ -24,14 +24,14 @@
  * points (linear in t between them), cumulative over h cells, and the h
  * samples it was summed from. A query blends L over the nodes and the
  * interval into one weight per point; eval is sum_t L(t) E(t)(wi). */
-#include "render/fiber_medulla_table.h"
+#include "optics/fiber_medulla_table.h"
 
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "common/vector_clones.h"
-#include "render/fiber_table.h"
+#include "optics/fiber_table.h"
 
 #define HALF_PI (0.5 * PLM_PI)
 
@@ -1063,7 +1063,7 @@ void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct pl
                                                       : n - 1.0;
     plm_fiber_corners(m->symmetry, n, m->res.phi_nodes, m->phi_lo, m->phi_step, ft, v->phi, nodes, w);
     if (m->factored) {
-        /* The blend scaled as the other part's (render/fiber_table.c's
+        /* The blend scaled as the other part's (optics/fiber_table.c's
          * energy_scale): by the interval's energy at three |theta_o| nodes,
          * interpolated quadratically in cos(|theta_o|), over the linear
          * blend's. Both parts alike, so that a white fiber's energies still

@@ -1,6 +1,6 @@
 /* Sampling building blocks shared by the BCSDFs, the BSDFs and the lights. */
-#ifndef PLUMAGE_RENDER_SAMPLING_H
-#define PLUMAGE_RENDER_SAMPLING_H
+#ifndef PLUMAGE_COMMON_SAMPLING_H
+#define PLUMAGE_COMMON_SAMPLING_H
 
 #include <stdint.h>
 

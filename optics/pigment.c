@@ -1,4 +1,4 @@
-#include "render/pigment.h"
+#include "optics/pigment.h"
 
 #include <stddef.h>
 

@@ -1,8 +1,8 @@
 /* The feather texture as the renderer reads it: the image the generator
  * writes (its encoding is common/feather_texture_contract.h), with the
  * regions decoded once. */
-#ifndef PLUMAGE_RENDER_FEATHER_TEXTURE_H
-#define PLUMAGE_RENDER_FEATHER_TEXTURE_H
+#ifndef PLUMAGE_OPTICS_FEATHER_TEXTURE_H
+#define PLUMAGE_OPTICS_FEATHER_TEXTURE_H
 
 #include "common/error.h"
 #include "common/feather_texture_contract.h"

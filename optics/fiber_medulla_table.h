@@ -22,12 +22,12 @@
  *   shared by all views. A query blends the light over the view nodes and
  *   the interval into one weight per point; eval is the points' emission
  *   weighted by it. */
-#ifndef PLUMAGE_RENDER_FIBER_MEDULLA_TABLE_H
-#define PLUMAGE_RENDER_FIBER_MEDULLA_TABLE_H
+#ifndef PLUMAGE_OPTICS_FIBER_MEDULLA_TABLE_H
+#define PLUMAGE_OPTICS_FIBER_MEDULLA_TABLE_H
 
 #include <stddef.h>
 
-#include "render/fiber.h"
+#include "optics/fiber.h"
 
 /* Default resolution aims at this many bytes (within the fiber table's budget). */
 #define PLM_FIBER_MEDULLA_BUDGET ((size_t)10 << 20)
@@ -47,9 +47,9 @@ typedef struct plm_fiber_medulla_resolution {
 
 typedef struct plm_fiber_medulla_table {
     plm_fiber_medulla_resolution res; /* theta_nodes 0: no medulla, no table */
-    int symmetry;                     /* the fiber table's (render/fiber_table.h) */
+    int symmetry;                     /* the fiber table's (optics/fiber_table.h) */
     int factored;                     /* 1: the factored layout (every fiber but a rotationally symmetric one) */
-    double theta_max, eta, u_last; /* theta_o nodes as the other part's (render/fiber_table.h) */
+    double theta_max, eta, u_last; /* theta_o nodes as the other part's (optics/fiber_table.h) */
     double phi_lo, phi_step;
     /* Rotationally symmetric: the medulla's radius r. Paths meet the medulla
      * only for |h| below h_reach (plm_fiber_medulla_reach), so rows run over
@@ -88,7 +88,7 @@ void plm_fiber_medulla_bound_energies(plm_fiber_medulla_table *m);
 plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err);
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
 /* Fills m->data (deterministically) on the threads of o, a
- * plm_fiber_table_options (render/fiber_table.h), showing progress on stderr
+ * plm_fiber_table_options (optics/fiber_table.h), showing progress on stderr
  * as plm_fiber_parallel does. */
 struct plm_fiber_table_options;
 plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
@@ -103,7 +103,7 @@ double plm_fiber_medulla_reach(const plm_fiber_medulla_table *m, double sin_thet
 
 /* A prepared query: the weighted rows (terms) of the four view nodes around
  * wo whose sum is the mean over [h-, h+] between the nodes, as the other
- * part's (render/fiber_table.h), and the part's energy. */
+ * part's (optics/fiber_table.h), and the part's energy. */
 #define PLM_FIBER_MEDULLA_TERMS 16 /* four nodes, four rows each */
 typedef struct plm_fiber_medulla_query {
     const plm_fiber_medulla_table *table; /* NULL: no medulla part */
@@ -126,7 +126,7 @@ typedef struct plm_fiber_medulla_query {
     double norm;
 } plm_fiber_medulla_query;
 
-/* v: wo and the interval as both parts see them (render/fiber_table.h). */
+/* v: wo and the interval as both parts see them (optics/fiber_table.h). */
 struct plm_fiber_view;
 void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
                                plm_fiber_medulla_query *q);

@@ -1,4 +1,4 @@
-#include "render/feather_texture.h"
+#include "optics/feather_texture.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,7 +5,7 @@
  * difference of the rays' coordinates along u (the paper's Eq. 6 for arcs and
  * its cosine analogue for segments give the same numbers), and h is that
  * coordinate scaled to [-1, 1] across the fiber's silhouette. */
-#include "render/masking.h"
+#include "optics/masking.h"
 
 #include <math.h>
 #include <stddef.h>

@@ -8,7 +8,7 @@
  * the Bravais formulation (projected index for the azimuth, Snell for the
  * longitudinal angle), and 3D Fresnel at the true angle of incidence is the
  * exact unpolarised reflectance. */
-#include "render/fiber.h"
+#include "optics/fiber.h"
 
 #include <stddef.h>
 

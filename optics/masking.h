@@ -21,8 +21,8 @@
  * that plane (plm_masking_barbule_frames).
  * Directions are in the barb frame (x, y, z) = (w.b, w.n, w.t): n the
  * dorsal normal, t the barb axis away from the rachis, b toward the tip. */
-#ifndef PLUMAGE_RENDER_MASKING_H
-#define PLUMAGE_RENDER_MASKING_H
+#ifndef PLUMAGE_OPTICS_MASKING_H
+#define PLUMAGE_OPTICS_MASKING_H
 
 #include "common/error.h"
 #include "common/params.h"

@@ -5,8 +5,8 @@
  * eumelanin and pheomelanin with published coefficients, carotenoid-like
  * yellow and red pigments and clear keratin with estimates; docs/species.md
  * ("Pigments") gives the values and their sources. */
-#ifndef PLUMAGE_RENDER_PIGMENT_H
-#define PLUMAGE_RENDER_PIGMENT_H
+#ifndef PLUMAGE_OPTICS_PIGMENT_H
+#define PLUMAGE_OPTICS_PIGMENT_H
 
 #include "common/params.h"
 #include "common/vec.h"

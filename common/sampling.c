@@ -1,4 +1,4 @@
-#include "render/sampling.h"
+#include "common/sampling.h"
 
 #include "common/rng.h"
 

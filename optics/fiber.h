@@ -11,8 +11,8 @@
  * view direction wo (plm_fiber_prepare), and eval/pdf/sample are then
  * deterministic functions of (set, wi). The expectation over lobe sets of
  * plm_fiber_eval is the BCSDF of Eqs. 1-2 (with D = 1). */
-#ifndef PLUMAGE_RENDER_FIBER_H
-#define PLUMAGE_RENDER_FIBER_H
+#ifndef PLUMAGE_OPTICS_FIBER_H
+#define PLUMAGE_OPTICS_FIBER_H
 
 #include "common/error.h"
 #include "common/params.h"
@@ -89,7 +89,7 @@ int plm_fiber_trace(const plm_fiber_params *p, vec3 wo, double h, plm_rng *rng, 
 /* Where a path first reaches the medulla. Up to there a path is
  * deterministic; what leaves the fiber after it depends only on this point
  * and on how many lobes the path may still store (the medulla table,
- * render/fiber_medulla_table.h, builds on that). */
+ * optics/fiber_medulla_table.h, builds on that). */
 typedef struct plm_fiber_medulla_hit {
     double t;       /* the medulla point (ca + a cos t, cb + b sin t) */
     rgb throughput; /* of the light arriving there (before the medulla's albedo) */
@@ -133,7 +133,7 @@ void plm_fiber_prepare(const plm_fiber_params *p, vec3 wo, double hmin, double h
  * its inverse CDF maps u. Its value is scale * exp(-dtheta^2 / (2 beta_m^2))
  * (0 beyond 10 std-devs); the inverse of its CDF at u in [0, 1) is
  * plm_fiber_sample_gm. Lobes that never meet the medulla all share Theta =
- * -theta_o, which the tabulated BCSDF (render/fiber_table.h) builds on. */
+ * -theta_o, which the tabulated BCSDF (optics/fiber_table.h) builds on. */
 typedef struct plm_fiber_gm_detector {
     double theta, s; /* Theta and sqrt(2) beta_m */
     double scale, erf_lo, erf_hi;

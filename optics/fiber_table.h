@@ -8,17 +8,17 @@
  * table holds, per (|theta_o|, phi_o) node, the cumulative integral of N over
  * h cells and azimuth bins; an h-interval's mean is then a difference of
  * interpolated rows. The lobes that bounced off the medulla have a table of
- * their own (render/fiber_medulla_table.h), so a query is deterministic.
+ * their own (optics/fiber_medulla_table.h), so a query is deterministic.
  *
  * Tables are built on all cores on first use and cached on disk, keyed by a
  * hash of the parameters, the resolution and the format version. */
-#ifndef PLUMAGE_RENDER_FIBER_TABLE_H
-#define PLUMAGE_RENDER_FIBER_TABLE_H
+#ifndef PLUMAGE_OPTICS_FIBER_TABLE_H
+#define PLUMAGE_OPTICS_FIBER_TABLE_H
 
 #include <stddef.h>
 
-#include "render/fiber.h"
-#include "render/fiber_medulla_table.h"
+#include "optics/fiber.h"
+#include "optics/fiber_medulla_table.h"
 
 #define PLM_FIBER_TABLE_VERSION 15
 /* |theta_o| of a table's limit node (plm_fiber_table.limit_node). */

@@ -1,6 +1,6 @@
-#include "render/feather_bsdf.h"
+#include "optics/feather_bsdf.h"
 
-#include "render/sampling.h"
+#include "common/sampling.h"
 
 #include <assert.h>
 #include <string.h>

@@ -15,7 +15,7 @@
  * lobe's (Delta_k, A_k RGB) at h_j: within the partial cells at an
  * interval's ends a lobe is taken to move and change linearly in h, and its
  * G_N's mean over the piece is integrated in closed form (moving lobes). */
-#include "render/fiber_table.h"
+#include "optics/fiber_table.h"
 
 #include <pthread.h>
 #include <stdatomic.h>

@@ -6,12 +6,12 @@
  * barbs, so it grows continuously into a whole period, which is the far
  * field exactly: zooming never pops, and the mean over a period is the far
  * field at every scale. */
-#ifndef PLUMAGE_RENDER_NEARFIELD_H
-#define PLUMAGE_RENDER_NEARFIELD_H
+#ifndef PLUMAGE_OPTICS_NEARFIELD_H
+#define PLUMAGE_OPTICS_NEARFIELD_H
 
 #include "common/vec.h"
-#include "render/feather_texture.h"
-#include "render/masking.h"
+#include "optics/feather_texture.h"
+#include "optics/masking.h"
 
 /* The far field as a window: a whole period. */
 static inline plm_barb_window plm_nearfield_far(void) { return (plm_barb_window){0.0, 1.0}; }

@@ -1,6 +1,6 @@
 /* Near-field windows from the barb coordinate and the pixel footprint; see
  * nearfield.h and docs/nearfield.md. */
-#include "render/nearfield.h"
+#include "optics/nearfield.h"
 
 #include <math.h>
 

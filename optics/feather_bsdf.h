@@ -7,18 +7,18 @@
  * |wi.n|^-1 of Eq. 4, the cosine-weighted BSDF is
  *   f_s |wi.n| = sum_k w_k(wo) S_k(wi) cos(theta_i,k)        (k = barb, proximal, distal)
  * where S_k is plm_fiber_eval in fiber k's frame. The renderer takes w_t as
- * fractional visibility (render/bsdf.h) and the rest divided by (1 - w_t).
+ * fractional visibility (render/material.h) and the rest divided by (1 - w_t).
  * Sampling chooses component k by the light it sends back, w_k times its
  * fiber's energy for wo, and evaluates only fiber k at the sampled direction
  * (plm_feather_sample). */
-#ifndef PLUMAGE_RENDER_FEATHER_BSDF_H
-#define PLUMAGE_RENDER_FEATHER_BSDF_H
+#ifndef PLUMAGE_OPTICS_FEATHER_BSDF_H
+#define PLUMAGE_OPTICS_FEATHER_BSDF_H
 
 #include "common/rng.h"
 #include "common/vec.h"
-#include "render/fiber.h"
-#include "render/fiber_table.h"
-#include "render/masking.h"
+#include "optics/fiber.h"
+#include "optics/fiber_table.h"
+#include "optics/masking.h"
 
 /* The fiber BCSDF estimator of a feather (docs/fiber.md). */
 typedef enum plm_bcsdf_kind {
