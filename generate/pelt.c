@@ -1,0 +1,403 @@
+/* Pelts and feather balls (generate/layout.h) as instance lists: blue-noise
+ * roots over a surface, each feather laid along the flow. The reasoning
+ * behind shingling and clearance is in docs/layouts.md. */
+#include "generate/layout.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/rng.h"
+#include "generate/layout_parts.h"
+
+static vec3 rotate_about(vec3 v, vec3 k, double angle)
+{
+    double c = cos(angle), s = sin(angle);
+    return v3_add(v3_add(v3_scale(v, c), v3_scale(v3_cross(k, v), s)), v3_scale(k, v3_dot(k, v) * (1.0 - c)));
+}
+
+/* Picks an index by weight with u in [0, 1). */
+static int pick_weighted(const double *cdf, int n, double u)
+{
+    int i = 0;
+    while (i + 1 < n && u * cdf[n - 1] >= cdf[i])
+        ++i;
+    return i;
+}
+
+/* ---- Surfaces ---- */
+
+typedef struct surface {
+    const plm_surface *s;
+    double width, height, radius;
+    double area;
+    double *cdf; /* mesh: cumulative triangle areas */
+} surface;
+
+typedef struct surface_point {
+    vec3 p, n, flow; /* flow: unit, in the tangent plane */
+} surface_point;
+
+static vec3 mesh_vertex(const float *a, uint32_t i) { return v3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
+
+static plm_result surface_init(surface *sf, const plm_surface *s, plm_error *err)
+{
+    memset(sf, 0, sizeof *sf);
+    sf->s = s;
+    sf->width = s->width > 0.0 ? s->width : 1.0;
+    sf->height = s->height > 0.0 ? s->height : 1.0;
+    sf->radius = s->radius > 0.0 ? s->radius : 1.0;
+    switch (s->kind) {
+    case PLM_SURFACE_PLANE:
+        sf->area = sf->width * sf->height;
+        return PLM_OK;
+    case PLM_SURFACE_SPHERE:
+        sf->area = 4.0 * PLM_PI * sf->radius * sf->radius;
+        return PLM_OK;
+    case PLM_SURFACE_MESH: break;
+    default: return plm_fail(err, PLM_ERR_INVALID, "layout surface: unknown kind %d", (int)s->kind);
+    }
+    const plm_mesh *m = s->mesh;
+    if (!m || m->triangle_count <= 0)
+        return plm_fail(err, PLM_ERR_INVALID, "layout surface: the mesh has no triangles");
+    sf->cdf = malloc(sizeof(double) * (size_t)m->triangle_count);
+    if (!sf->cdf)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for the surface's %d triangles", m->triangle_count);
+    for (int t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *v = m->indices + 3 * t;
+        vec3 a = mesh_vertex(m->positions, v[0]), b = mesh_vertex(m->positions, v[1]),
+             c = mesh_vertex(m->positions, v[2]);
+        sf->area += 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+        sf->cdf[t] = sf->area;
+    }
+    if (!(sf->area > 0.0))
+        return plm_fail(err, PLM_ERR_INVALID, "layout surface: the mesh has zero area");
+    return PLM_OK;
+}
+
+/* The axis projected onto the tangent plane; any tangent where it is parallel to n. */
+static vec3 tangent_flow(vec3 axis, vec3 n)
+{
+    vec3 f = v3_sub(axis, v3_scale(n, v3_dot(axis, n)));
+    if (v3_length(f) < 1e-6 * (v3_length(axis) + 1e-300))
+        return frame_from_z(n).x;
+    return v3_normalize(f);
+}
+
+static surface_point surface_sample(const surface *sf, vec3 axis, double u0, double u1, double u2)
+{
+    surface_point sp;
+    switch (sf->s->kind) {
+    case PLM_SURFACE_PLANE:
+        sp.p = v3((u0 - 0.5) * sf->width, (u1 - 0.5) * sf->height, 0.0);
+        sp.n = v3(0, 0, 1);
+        break;
+    case PLM_SURFACE_SPHERE: {
+        double z = 1.0 - 2.0 * u0, r = plm_safe_sqrt(1.0 - z * z), phi = PLM_TWO_PI * u1;
+        sp.n = v3(r * cos(phi), r * sin(phi), z);
+        sp.p = v3_scale(sp.n, sf->radius);
+        break;
+    }
+    default: {
+        const plm_mesh *m = sf->s->mesh;
+        double target = u0 * sf->area;
+        int lo = 0, hi = m->triangle_count - 1;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (sf->cdf[mid] <= target)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        const uint32_t *v = m->indices + 3 * lo;
+        double su = sqrt(u1), b0 = 1.0 - su, b1 = su * (1.0 - u2), b2 = su * u2;
+        vec3 a = mesh_vertex(m->positions, v[0]), b = mesh_vertex(m->positions, v[1]),
+             c = mesh_vertex(m->positions, v[2]);
+        sp.p = v3_add(v3_add(v3_scale(a, b0), v3_scale(b, b1)), v3_scale(c, b2));
+        vec3 face = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+        sp.n = face;
+        if (m->normals) {
+            vec3 n = v3_add(v3_add(v3_scale(mesh_vertex(m->normals, v[0]), b0),
+                                   v3_scale(mesh_vertex(m->normals, v[1]), b1)),
+                            v3_scale(mesh_vertex(m->normals, v[2]), b2));
+            if (v3_length(n) > 1e-9 && v3_dot(n, face) > 0.0)
+                sp.n = v3_normalize(n);
+        }
+        if (m->tangents)
+            axis = v3_add(v3_add(v3_scale(mesh_vertex(m->tangents, v[0]), b0),
+                                 v3_scale(mesh_vertex(m->tangents, v[1]), b1)),
+                          v3_scale(mesh_vertex(m->tangents, v[2]), b2));
+        break;
+    }
+    }
+    sp.flow = tangent_flow(axis, sp.n);
+    return sp;
+}
+
+/* Height of q above the surface near the root: exact for plane and sphere,
+ * above the root's tangent plane for a mesh. */
+static double surface_height(const surface *sf, const surface_point *root, vec3 q)
+{
+    if (sf->s->kind == PLM_SURFACE_SPHERE)
+        return v3_length(q) - sf->radius;
+    return v3_dot(v3_sub(q, root->p), root->n);
+}
+
+/* Whether every vertex of the placed feather stands at least `margin` above
+ * the sphere. A vertex (x, y, z) lies at |q|^2 = a^2 + 2 a s h + s^2 w from
+ * the centre, with a = |origin| = R + r s, h = y sin(alpha) + z cos(alpha)
+ * and w = x^2 + y^2 + z^2. The hull's lowest h with the smallest w bounds
+ * the lowest vertex from below, the hull's own vertices from above: only
+ * when margin lies between the two are all vertices checked. The answer is
+ * the full check's (docs/layouts.md). */
+static int clear_of_sphere(const surface *sf, const plm_layout_extent *e, const plm_layout_instance *in, double scale,
+                           double alpha, double margin)
+{
+    double a = sf->radius + e->rachis_radius * scale, sa = sin(alpha), ca = cos(alpha), h_min = INFINITY;
+    double upper = INFINITY, need = (sf->radius + margin) * (sf->radius + margin);
+    for (int i = 0; i < e->hull_count; ++i) {
+        double h = e->hull[i][0] * sa + e->hull[i][1] * ca;
+        h_min = fmin(h_min, h);
+        upper = fmin(upper, a * a + 2.0 * a * scale * h + scale * scale * e->hull[i][2]);
+    }
+    if (a * a + 2.0 * a * scale * h_min + scale * scale * e->w_min >= need)
+        return 1;
+    if (upper < need)
+        return 0;
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < e->mesh[k].vertex_count; ++i)
+            if (surface_height(sf, NULL, plm_layout_apply(in, e->mesh[k].positions + 3 * i)) < margin)
+                return 0;
+    return 1;
+}
+
+/* ---- Blue noise: dart throwing with a hashed grid ---- */
+
+typedef struct dart_grid {
+    double cell;
+    int *head, *next;
+    uint64_t mask;
+    const surface_point *points;
+} dart_grid;
+
+static uint64_t cell_key(const dart_grid *g, vec3 p, int dx, int dy, int dz)
+{
+    int64_t i = (int64_t)floor(p.x / g->cell) + dx, j = (int64_t)floor(p.y / g->cell) + dy,
+            k = (int64_t)floor(p.z / g->cell) + dz;
+    return plm_hash64((uint64_t)i, (uint64_t)j, (uint64_t)k) & g->mask;
+}
+
+static int too_close(const dart_grid *g, vec3 p, double r)
+{
+    for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int i = g->head[cell_key(g, p, dx, dy, dz)]; i >= 0; i = g->next[i])
+                    if (v3_length(v3_sub(g->points[i].p, p)) < r)
+                        return 1;
+    return 0;
+}
+
+/* `count` points over the surface, no two closer than a radius that starts at
+ * 0.75 of the mean spacing and shrinks only when darts keep missing. */
+static plm_result blue_noise(const surface *sf, vec3 axis, int count, uint64_t seed, surface_point *out,
+                             plm_error *err)
+{
+    uint64_t size = 1;
+    while (size < 2 * (uint64_t)count)
+        size <<= 1;
+    dart_grid g = {0};
+    g.head = malloc(sizeof(int) * size);
+    g.next = malloc(sizeof(int) * (size_t)count);
+    if (!g.head || !g.next) {
+        free(g.head);
+        free(g.next);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory placing %d feathers", count);
+    }
+    memset(g.head, 0xff, sizeof(int) * size);
+    g.mask = size - 1;
+    g.points = out;
+    double r = 0.75 * sqrt(sf->area / count);
+    g.cell = r;
+    plm_rng rng;
+    plm_rng_seed(&rng, seed, PLM_LAYOUT_STREAM_PLACE);
+    int placed = 0, misses = 0;
+    while (placed < count) {
+        double u0 = plm_rng_uniform(&rng), u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng);
+        surface_point sp = surface_sample(sf, axis, u0, u1, u2);
+        if (too_close(&g, sp.p, r)) {
+            if (++misses > 64) {
+                r *= 0.97;
+                misses = 0;
+            }
+            continue;
+        }
+        misses = 0;
+        out[placed] = sp;
+        uint64_t key = cell_key(&g, sp.p, 0, 0, 0);
+        g.next[placed] = g.head[key];
+        g.head[key] = placed;
+        ++placed;
+    }
+    free(g.head);
+    free(g.next);
+    return PLM_OK;
+}
+
+/* ---- Pelt ---- */
+
+/* Places one feather at a root: along the flow turned by its yaw, raised by
+ * `elevation` plus its lift, then further (in half-degree steps, up to
+ * max_elevation) until every point of the prototype is above the surface. */
+static void place_on_surface(const surface *sf, const surface_point *root, const plm_layout_extent *e, double scale,
+                             double elevation, double max_elevation, plm_layout_instance *in)
+{
+    vec3 n = root->n;
+    vec3 t = rotate_about(root->flow, n, in->yaw);
+    vec3 origin = v3_madd(root->p, n, e->rachis_radius * scale);
+    double alpha = fmin(elevation + in->lift, max_elevation);
+    const double margin = 0.002 * e->length * scale, step = plm_radians(0.5);
+    for (;;) {
+        vec3 tt = v3_add(v3_scale(t, cos(alpha)), v3_scale(n, sin(alpha)));
+        vec3 z = v3_sub(v3_scale(n, cos(alpha)), v3_scale(t, sin(alpha)));
+        plm_layout_set_matrix(in, v3_cross(tt, z), tt, z, origin, scale);
+        int clear;
+        if (sf->s->kind == PLM_SURFACE_SPHERE) {
+            clear = clear_of_sphere(sf, e, in, scale, alpha, margin);
+        } else {
+            /* Above a tangent plane a feather point (x, y, z) stands at
+             * scale (r + y sin(alpha) + z cos(alpha)): x plays no part, and
+             * the lowest point is a vertex of the (y, z) hull. */
+            double lowest = INFINITY;
+            for (int i = 0; i < e->hull_count; ++i)
+                lowest = fmin(lowest, scale * (e->rachis_radius + e->hull[i][0] * sin(alpha) +
+                                               e->hull[i][1] * cos(alpha)));
+            clear = lowest >= margin;
+        }
+        if (clear || alpha >= max_elevation)
+            break;
+        alpha = fmin(alpha + step, max_elevation);
+    }
+    in->lift = alpha;
+}
+
+typedef struct pelt_setup {
+    int count;
+    double length;        /* layout units of a scale-1 feather */
+    double elevation, max_elevation;
+    plm_layout_ranges var;
+    int variants;
+} pelt_setup;
+
+static plm_result pelt(const surface *sf, vec3 axis, const pelt_setup *ps, uint64_t seed,
+                       const plm_layout_species *species, int species_count, plm_layout *out, plm_error *err)
+{
+    const plm_species *list[15];
+    double cdf[15];
+    if (species_count < 1 || species_count > (int)(sizeof list / sizeof list[0]))
+        return plm_fail(err, PLM_ERR_INVALID, "a layout takes 1 to %d species, not %d",
+                        (int)(sizeof list / sizeof list[0]), species_count);
+    for (int s = 0; s < species_count; ++s) {
+        if (!species[s].species)
+            return plm_fail(err, PLM_ERR_INVALID, "layout species %d is missing", s);
+        list[s] = species[s].species;
+        cdf[s] = (s ? cdf[s - 1] : 0.0) + (species[s].weight > 0.0 ? species[s].weight : 1.0);
+    }
+    plm_layout_extent *ext = NULL;
+    surface_point *roots = malloc(sizeof *roots * (size_t)ps->count);
+    out->instances = calloc((size_t)ps->count, sizeof *out->instances);
+    plm_result rc = roots && out->instances ? PLM_OK
+                                            : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for %d feathers",
+                                                       ps->count);
+    if (rc == PLM_OK)
+        rc = plm_layout_make_prototypes(list, species_count, ps->variants, seed, out, &ext, err);
+    if (rc == PLM_OK)
+        rc = blue_noise(sf, axis, ps->count, seed, roots, err);
+    for (int i = 0; rc == PLM_OK && i < ps->count; ++i) {
+        plm_layout_instance *in = &out->instances[i];
+        plm_rng rng;
+        plm_rng_seed(&rng, plm_hash64(seed, (uint64_t)i, 0), PLM_LAYOUT_STREAM_FEATHER);
+        int s = pick_weighted(cdf, species_count, plm_rng_uniform(&rng));
+        int v = (int)(plm_rng_uniform(&rng) * ps->variants);
+        in->prototype = s * ps->variants + v;
+        in->row = s;
+        plm_layout_draw_variation(&rng, &ps->var, in);
+        const plm_layout_extent *e = &ext[in->prototype];
+        place_on_surface(sf, &roots[i], e, in->scale * ps->length / e->length, ps->elevation, ps->max_elevation,
+                         in);
+    }
+    if (rc == PLM_OK)
+        out->instance_count = ps->count;
+    plm_layout_extents_free(ext, out->prototype_count);
+    free(roots);
+    return rc;
+}
+
+plm_result plm_layout_pelt(const plm_pelt_params *p, const plm_layout_species *species, int species_count,
+                           plm_layout *out, plm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    surface sf;
+    plm_result rc = surface_init(&sf, &p->surface, err);
+    double count = p->count > 0 ? p->count : (p->density > 0.0 ? p->density * sf.area : 100.0);
+    double overlap = p->overlap > 0.0 ? p->overlap : 2.0 / 3.0;
+    if (rc == PLM_OK && !(count >= 1.0 && count <= 1e7))
+        rc = plm_fail(err, PLM_ERR_INVALID, "pelt: %.0f feathers is out of range [1, 10^7] (count, or density x "
+                      "area %g)", count, sf.area);
+    if (rc == PLM_OK && !(overlap < 0.95))
+        rc = plm_fail(err, PLM_ERR_INVALID, "pelt: overlap %g is out of range (0, 0.95)", overlap);
+    if (rc == PLM_OK && !(p->elevation >= 0.0 && p->elevation < 0.5 * PLM_PI))
+        rc = plm_fail(err, PLM_ERR_INVALID, "pelt: elevation %g degrees is out of range [0, 90)",
+                      plm_degrees(p->elevation));
+    if (rc == PLM_OK) {
+        pelt_setup ps;
+        ps.count = (int)count;
+        /* Shingling: a feather should come out from under the ones behind it
+         * at `overlap` of its length. Blue-noise neighbours ahead along the
+         * flow sit partly to the side, and a length of 1.25 mean spacings
+         * per (1 - overlap) does it (measured by test_layout, docs/layouts.md). */
+        double ahead = 1.25 * sqrt(sf.area / ps.count);
+        ps.length = p->feather_length > 0.0 ? p->feather_length : ahead / (1.0 - overlap);
+        ps.elevation = p->elevation > 0.0 ? p->elevation : plm_radians(8.0);
+        ps.max_elevation = plm_radians(80.0);
+        ps.var = plm_layout_ranges_of(&p->variation);
+        ps.variants = p->variants > 0 ? p->variants : 4;
+        vec3 axis = v3_length(p->axis) > 0.0 ? p->axis : v3(0, -1, 0);
+        rc = pelt(&sf, axis, &ps, p->seed, species, species_count, out, err);
+    }
+    free(sf.cdf);
+    if (rc != PLM_OK)
+        plm_layout_free(out);
+    return rc;
+}
+
+/* A ball is a pelt on a sphere whose feathers stand nearly upright, leaning
+ * by up to `spread` in any direction. */
+plm_result plm_layout_ball(const plm_ball_params *p, const plm_layout_species *species, int species_count,
+                           plm_layout *out, plm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    plm_surface s = {.kind = PLM_SURFACE_SPHERE, .radius = p->radius > 0.0 ? p->radius : 1.0};
+    surface sf;
+    plm_result rc = surface_init(&sf, &s, err);
+    double spread = p->spread > 0.0 ? p->spread : plm_radians(10.0);
+    if (rc == PLM_OK && !(spread < 0.5 * PLM_PI))
+        rc = plm_fail(err, PLM_ERR_INVALID, "ball: spread %g degrees is out of range (0, 90)", plm_degrees(spread));
+    if (rc == PLM_OK && !(p->count >= 0 && p->count <= 10000000))
+        rc = plm_fail(err, PLM_ERR_INVALID, "ball: count %d is out of range [1, 10^7]", p->count);
+    if (rc != PLM_OK)
+        return rc;
+    pelt_setup ps;
+    ps.count = p->count > 0 ? p->count : 496;
+    ps.length = p->feather_length > 0.0 ? p->feather_length : 2.0 * sf.radius;
+    ps.elevation = 0.5 * PLM_PI - spread;
+    ps.max_elevation = 0.5 * PLM_PI;
+    ps.var = plm_layout_ranges_of(&p->variation);
+    ps.var.lift = spread; /* upright .. leaning by spread */
+    ps.var.yaw = PLM_PI;  /* leaning any way */
+    ps.variants = p->variants > 0 ? p->variants : 4;
+    rc = pelt(&sf, v3(0, -1, 0), &ps, p->seed, species, species_count, out, err);
+    if (rc != PLM_OK)
+        plm_layout_free(out);
+    return rc;
+}
