@@ -15,6 +15,7 @@ enum { KIND_PELT, KIND_BALL, KIND_WING };
 typedef struct layout_args {
     int kind, count, variants, seed;
     double density, overlap, length, elevation_deg, width, height, radius, axis[3];
+    double head_size, edge_size, edge_width;
     double span, chord, sweep_deg, fold;
     const char *surface;
     plm_opt_list species, rows;
@@ -78,7 +79,8 @@ static plm_result run_layout(const layout_args *a, plm_species *sp, int n, plm_m
     plm_pelt_params p = {.count = a->count, .density = a->density, .overlap = a->overlap,
                          .feather_length = a->length, .elevation = plm_radians(a->elevation_deg),
                          .variants = a->variants, .axis = v3(a->axis[0], a->axis[1], a->axis[2]),
-                         .seed = (uint64_t)a->seed};
+                         .seed = (uint64_t)a->seed, .head_size = a->head_size, .edge_size = a->edge_size,
+                         .edge_width = a->edge_width};
     p.surface.width = a->width;
     p.surface.height = a->height;
     p.surface.radius = a->radius;
@@ -112,6 +114,12 @@ int probe_layout(int argc, char **argv)
         {"--feather-length", PLM_OPT_DOUBLE, &a.length, 1, 0, 1e9, NULL, "L", "layout units; default from the spacing (pelt), 2 radius (ball)", 0},
         {"--elevation", PLM_OPT_DOUBLE, &a.elevation_deg, 1, 0, 89, NULL, "DEG", "pelt: angle to the surface; default 8", 0},
         {"--axis", PLM_OPT_DOUBLES, a.axis, 3, -1e9, 1e9, NULL, "X,Y,Z", "pelt: flow axis; default 0,-1,0", 0},
+        {"--head-size", PLM_OPT_DOUBLE, &a.head_size, 1, 0, 1, NULL, "S",
+         "pelt: size at the head end of the flow; default 0.6", 0},
+        {"--edge-size", PLM_OPT_DOUBLE, &a.edge_size, 1, 0, 1, NULL, "S",
+         "pelt: size at the surface's edges; default 0.6", 0},
+        {"--edge-width", PLM_OPT_DOUBLE, &a.edge_width, 1, 0, 1e9, NULL, "W",
+         "pelt: how far from an edge feathers shrink; default a feather's length", 0},
         {"--width", PLM_OPT_DOUBLE, &a.width, 1, 0, 1e9, NULL, "W", "plane width; default 1", 0},
         {"--height", PLM_OPT_DOUBLE, &a.height, 1, 0, 1e9, NULL, "H", "plane height; default 1", 0},
         {"--radius", PLM_OPT_DOUBLE, &a.radius, 1, 0, 1e9, NULL, "R", "sphere or ball radius; default 1", 0},
@@ -129,6 +137,9 @@ int probe_layout(int argc, char **argv)
         {"--overlap", &plm_pelt_param_block, "overlap"},
         {"--feather-length", &plm_pelt_param_block, "feather_length"},
         {"--elevation", &plm_pelt_param_block, "elevation"},
+        {"--head-size", &plm_pelt_param_block, "head_size"},
+        {"--edge-size", &plm_pelt_param_block, "edge_size"},
+        {"--edge-width", &plm_pelt_param_block, "edge_width"},
         {"--variants", &plm_pelt_param_block, "variants"},
         {"--seed", &plm_pelt_param_block, "seed"},
         {"--span", &plm_wing_param_block, "span"},

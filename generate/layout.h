@@ -40,7 +40,7 @@ typedef struct plm_layout_species {
 /* Per-feather variation, each drawn uniformly from the feather's own random
  * stream. Zero fields mean the defaults in brackets; `none` turns all off. */
 typedef struct plm_layout_variation {
-    double scale; /* size factor in [1 - scale, 1 + scale] [0.1] */
+    double scale; /* size factor in [1 - scale, 1 + scale] [0.1; a pelt's PLM_PELT_SCALE_VARIATION] */
     double yaw;   /* radians about the surface normal in [-yaw, yaw] [6 degrees] */
     double lift;  /* radians of extra elevation in [0, lift] [3 degrees] */
     double tint;  /* colour factor per channel in [1 - tint, 1], mostly shared brightness [0.1] */
@@ -80,6 +80,8 @@ void plm_layout_free(plm_layout *layout);
 
 /* ---- Pelt: feathers over a surface ---- */
 
+#define PLM_PELT_SCALE_VARIATION 0.15 /* a pelt's default variation.scale */
+
 typedef enum plm_surface_kind {
     PLM_SURFACE_PLANE = 0,  /* the rectangle |x| <= width/2, |y| <= height/2 in z = 0, normal +z */
     PLM_SURFACE_SPHERE = 1, /* centred at the origin, normal outward */
@@ -101,6 +103,11 @@ typedef struct plm_pelt_params {
     double overlap;        /* fraction of each feather's length covered by the feathers behind it [2/3] */
     double feather_length; /* length of a scale-1 feather in layout units [spacing / (1 - overlap)] */
     double elevation;      /* radians between a feather's base and the tangent plane [8 degrees] */
+    /* Feathers are smaller toward the head (against the flow) and toward the
+     * surface's edges, each relative to the largest (docs/layouts.md): */
+    double head_size;      /* the size at the head end of the flow, (0, 1] [0.6] */
+    double edge_size;      /* the size at an edge of the surface, (0, 1] [0.6] */
+    double edge_width;     /* layout units over which feathers shrink toward an edge [a feather's length] */
     int variants;          /* distinct prototypes per species [4] */
     plm_layout_variation variation;
     uint64_t seed;

@@ -27,15 +27,29 @@ static int pick_weighted(const double *cdf, int n, double u)
 
 /* ---- Surfaces ---- */
 
+/* The size of the feathers over the surface, relative to the largest (1):
+ * smaller toward the head (against the flow) and toward the surface's edges. */
+typedef struct size_field {
+    vec3 axis;          /* unit, the flow's axis: the head lies toward -axis */
+    double lo, span;    /* the surface's extent along it: dot(p, axis) in [lo, lo + span] */
+    double head, edge;  /* the size at the head end, at an edge */
+    double edge_width;  /* layout units over which feathers shrink toward an edge */
+    double *boundary;   /* mesh: the end points of its boundary edges, 6 per edge */
+    int boundary_count;
+    double least;       /* no size anywhere is smaller */
+} size_field;
+
 typedef struct surface {
     const plm_surface *s;
     double width, height, radius;
     double area;
     double *cdf; /* mesh: cumulative triangle areas */
+    size_field size;
 } surface;
 
 typedef struct surface_point {
     vec3 p, n, flow; /* flow: unit, in the tangent plane */
+    double size;     /* the size field there */
 } surface_point;
 
 static vec3 mesh_vertex(const float *a, uint32_t i) { return v3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
@@ -134,6 +148,128 @@ static surface_point surface_sample(const surface *sf, vec3 axis, double u0, dou
     return sp;
 }
 
+/* ---- The size field ---- */
+
+static void surface_free(surface *sf)
+{
+    free(sf->cdf);
+    free(sf->size.boundary);
+}
+
+static int compare_edge(const void *a, const void *b)
+{
+    const uint32_t *p = a, *q = b;
+    return p[0] != q[0] ? (p[0] > q[0]) - (p[0] < q[0]) : (p[1] > q[1]) - (p[1] < q[1]);
+}
+
+/* The mesh's boundary: the edges of only one triangle. */
+static plm_result mesh_boundary(const plm_mesh *m, size_field *f, plm_error *err)
+{
+    size_t n = 3 * (size_t)m->triangle_count;
+    uint32_t(*e)[2] = malloc(sizeof *e * n);
+    if (!e)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for the surface's %zu edges", n);
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t a = m->indices[i], b = m->indices[i % 3 == 2 ? i - 2 : i + 1];
+        e[i][0] = a < b ? a : b;
+        e[i][1] = a < b ? b : a;
+    }
+    qsort(e, n, sizeof *e, compare_edge);
+    f->boundary = malloc(sizeof(double) * 6 * n);
+    for (size_t i = 0; f->boundary && i < n;) {
+        size_t j = i + 1;
+        while (j < n && !compare_edge(e[i], e[j]))
+            ++j;
+        for (int k = 0; j == i + 1 && k < 2; ++k)
+            for (int c = 0; c < 3; ++c)
+                f->boundary[6 * f->boundary_count + 3 * k + c] = m->positions[3 * e[i][k] + c];
+        f->boundary_count += j == i + 1;
+        i = j;
+    }
+    free(e);
+    return f->boundary ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for the surface's boundary");
+}
+
+/* Distance from p to the nearest edge of the surface (infinite on a sphere
+ * and a closed mesh). */
+static double edge_distance(const surface *sf, vec3 p)
+{
+    if (sf->s->kind == PLM_SURFACE_PLANE)
+        return fmin(0.5 * sf->width - fabs(p.x), 0.5 * sf->height - fabs(p.y));
+    double d = INFINITY;
+    for (int i = 0; i < sf->size.boundary_count; ++i) {
+        const double *e = sf->size.boundary + 6 * i;
+        vec3 a = v3(e[0], e[1], e[2]), ab = v3_sub(v3(e[3], e[4], e[5]), a);
+        double t = plm_clamp(v3_dot(v3_sub(p, a), ab) / fmax(v3_dot(ab, ab), 1e-300), 0.0, 1.0);
+        d = fmin(d, v3_length(v3_sub(p, v3_madd(a, ab, t))));
+    }
+    return d;
+}
+
+static double size_at(const surface *sf, vec3 p)
+{
+    const size_field *f = &sf->size;
+    double u = f->span > 0.0 ? plm_clamp((v3_dot(p, f->axis) - f->lo) / f->span, 0.0, 1.0) : 1.0;
+    double t = f->edge < 1.0 ? fmin(edge_distance(sf, p) / f->edge_width, 1.0) : 1.0;
+    /* Linear along the flow; toward an edge, easing out of it. */
+    return (f->head + (1.0 - f->head) * u) * (f->edge + (1.0 - f->edge) * t * (2.0 - t));
+}
+
+/* The field's axis and extent, and the mesh's boundary. */
+static plm_result size_init(surface *sf, vec3 axis, double head, double edge, double edge_width, plm_error *err)
+{
+    size_field *f = &sf->size;
+    f->axis = v3_normalize(axis);
+    f->head = head;
+    f->edge = edge;
+    f->edge_width = edge_width;
+    f->least = head * edge;
+    const vec3 a = f->axis;
+    double hi;
+    switch (sf->s->kind) {
+    case PLM_SURFACE_PLANE:
+        hi = 0.5 * (sf->width * fabs(a.x) + sf->height * fabs(a.y));
+        f->lo = -hi;
+        break;
+    case PLM_SURFACE_SPHERE:
+        hi = sf->radius;
+        f->lo = -hi;
+        break;
+    default: {
+        const plm_mesh *m = sf->s->mesh;
+        f->lo = INFINITY, hi = -INFINITY;
+        for (int i = 0; i < m->vertex_count; ++i) {
+            double d = v3_dot(mesh_vertex(m->positions, (uint32_t)i), a);
+            f->lo = fmin(f->lo, d), hi = fmax(hi, d);
+        }
+        if (edge < 1.0) {
+            plm_result rc = mesh_boundary(m, f, err);
+            if (rc != PLM_OK)
+                return rc;
+        }
+    }
+    }
+    f->span = hi - f->lo;
+    return PLM_OK;
+}
+
+/* The area feathers of size 1 would take to cover the surface as these do:
+ * the integral of size^-2 over it, from a fixed set of stratified samples. */
+static double effective_area(const surface *sf, vec3 axis)
+{
+    enum { SIDE = 64 };
+    plm_rng rng;
+    plm_rng_seed(&rng, 0x5a1eu, PLM_LAYOUT_STREAM_PLACE);
+    double sum = 0.0;
+    for (int j = 0; j < SIDE; ++j)
+        for (int i = 0; i < SIDE; ++i) {
+            double u0 = (i + plm_rng_uniform(&rng)) / SIDE, u1 = (j + plm_rng_uniform(&rng)) / SIDE;
+            double s = size_at(sf, surface_sample(sf, axis, u0, u1, plm_rng_uniform(&rng)).p);
+            sum += 1.0 / (s * s);
+        }
+    return sf->area * sum / (SIDE * SIDE);
+}
+
 /* Height of q above the surface near the root: exact for plane and sphere,
  * above the root's tangent plane for a mesh. */
 static double surface_height(const surface *sf, const surface_point *root, vec3 q)
@@ -187,21 +323,25 @@ static uint64_t cell_key(const dart_grid *g, vec3 p, int dx, int dy, int dz)
     return plm_hash64((uint64_t)i, (uint64_t)j, (uint64_t)k) & g->mask;
 }
 
-static int too_close(const dart_grid *g, vec3 p, double r)
+/* Whether an accepted point lies closer to sp than r times the mean of their sizes. */
+static int too_close(const dart_grid *g, const surface_point *sp, double r)
 {
     for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
             for (int dz = -1; dz <= 1; ++dz)
-                for (int i = g->head[cell_key(g, p, dx, dy, dz)]; i >= 0; i = g->next[i])
-                    if (v3_length(v3_sub(g->points[i].p, p)) < r)
+                for (int i = g->head[cell_key(g, sp->p, dx, dy, dz)]; i >= 0; i = g->next[i])
+                    if (v3_length(v3_sub(g->points[i].p, sp->p)) < 0.5 * r * (g->points[i].size + sp->size))
                         return 1;
     return 0;
 }
 
-/* `count` points over the surface, no two closer than a radius that starts at
- * 0.75 of the mean spacing and shrinks only when darts keep missing. */
-static plm_result blue_noise(const surface *sf, vec3 axis, int count, uint64_t seed, surface_point *out,
-                             plm_error *err)
+/* `count` points over the surface, no two closer than a radius times their
+ * sizes (the size field): the radius starts at 0.75 of the mean spacing of
+ * size-1 feathers over the effective area and shrinks only when darts keep
+ * missing. Darts land with a density proportional to size^-2, the density
+ * the points end with, so every part of the surface fills alike. */
+static plm_result blue_noise(const surface *sf, vec3 axis, int count, double effective_area, uint64_t seed,
+                             surface_point *out, plm_error *err)
 {
     uint64_t size = 1;
     while (size < 2 * (uint64_t)count)
@@ -217,15 +357,18 @@ static plm_result blue_noise(const surface *sf, vec3 axis, int count, uint64_t s
     memset(g.head, 0xff, sizeof(int) * size);
     g.mask = size - 1;
     g.points = out;
-    double r = 0.75 * sqrt(sf->area / count);
-    g.cell = r;
+    double r = 0.75 * sqrt(effective_area / count), least = sf->size.least;
+    g.cell = r; /* sizes are at most 1 */
     plm_rng rng;
     plm_rng_seed(&rng, seed, PLM_LAYOUT_STREAM_PLACE);
     int placed = 0, misses = 0;
     while (placed < count) {
         double u0 = plm_rng_uniform(&rng), u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng);
         surface_point sp = surface_sample(sf, axis, u0, u1, u2);
-        if (too_close(&g, sp.p, r)) {
+        sp.size = size_at(sf, sp.p);
+        if (plm_rng_uniform(&rng) * sp.size * sp.size > least * least)
+            continue; /* kept with probability (least / size)^2 */
+        if (too_close(&g, &sp, r)) {
             if (++misses > 64) {
                 r *= 0.97;
                 misses = 0;
@@ -283,7 +426,8 @@ static void place_on_surface(const surface *sf, const surface_point *root, const
 
 typedef struct pelt_setup {
     int count;
-    double length;        /* layout units of a scale-1 feather */
+    double length;         /* layout units of a scale-1 feather */
+    double effective_area; /* effective_area(): the area size-1 feathers would cover */
     double elevation, max_elevation;
     plm_layout_ranges var;
     int variants;
@@ -312,7 +456,7 @@ static plm_result pelt(const surface *sf, vec3 axis, const pelt_setup *ps, uint6
     if (rc == PLM_OK)
         rc = plm_layout_make_prototypes(list, species_count, ps->variants, seed, out, &ext, err);
     if (rc == PLM_OK)
-        rc = blue_noise(sf, axis, ps->count, seed, roots, err);
+        rc = blue_noise(sf, axis, ps->count, ps->effective_area, seed, roots, err);
     for (int i = 0; rc == PLM_OK && i < ps->count; ++i) {
         plm_layout_instance *in = &out->instances[i];
         plm_rng rng;
@@ -322,6 +466,7 @@ static plm_result pelt(const surface *sf, vec3 axis, const pelt_setup *ps, uint6
         in->prototype = s * ps->variants + v;
         in->row = s;
         plm_layout_draw_variation(&rng, &ps->var, in);
+        in->scale *= roots[i].size;
         const plm_layout_extent *e = &ext[in->prototype];
         place_on_surface(sf, &roots[i], e, in->scale * ps->length / e->length, ps->elevation, ps->max_elevation,
                          in);
@@ -341,6 +486,7 @@ plm_result plm_layout_pelt(const plm_pelt_params *p, const plm_layout_species *s
     plm_result rc = surface_init(&sf, &p->surface, err);
     double count = p->count > 0 ? p->count : (p->density > 0.0 ? p->density * sf.area : 100.0);
     double overlap = p->overlap > 0.0 ? p->overlap : 2.0 / 3.0;
+    double head = p->head_size > 0.0 ? p->head_size : 0.6, edge = p->edge_size > 0.0 ? p->edge_size : 0.6;
     if (rc == PLM_OK && !(count >= 1.0 && count <= 1e7))
         rc = plm_fail(err, PLM_ERR_INVALID, "pelt: %.0f feathers is out of range [1, 10^7] (count, or density x "
                       "area %g)", count, sf.area);
@@ -349,23 +495,35 @@ plm_result plm_layout_pelt(const plm_pelt_params *p, const plm_layout_species *s
     if (rc == PLM_OK && !(p->elevation >= 0.0 && p->elevation < 0.5 * PLM_PI))
         rc = plm_fail(err, PLM_ERR_INVALID, "pelt: elevation %g degrees is out of range [0, 90)",
                       plm_degrees(p->elevation));
+    if (rc == PLM_OK && !(head <= 1.0 && edge <= 1.0))
+        rc = plm_fail(err, PLM_ERR_INVALID, "pelt: head_size %g and edge_size %g must be in (0, 1]", head, edge);
+    if (rc == PLM_OK && !(p->edge_width >= 0.0))
+        rc = plm_fail(err, PLM_ERR_INVALID, "pelt: edge_width %g must not be negative", p->edge_width);
+    vec3 axis = v3_length(p->axis) > 0.0 ? p->axis : v3(0, -1, 0);
+    /* Shingling: a feather should come out from under the ones behind it
+     * at `overlap` of its length. Blue-noise neighbours ahead along the
+     * flow sit partly to the side, and a length of 1.25 mean spacings
+     * per (1 - overlap) does it (measured by test_layout, docs/layouts.md). */
+    double uniform_length = 1.25 * sqrt(sf.area / count) / (1.0 - overlap);
+    if (rc == PLM_OK)
+        rc = size_init(&sf, axis, head, edge, p->edge_width > 0.0 ? p->edge_width : uniform_length, err);
     if (rc == PLM_OK) {
         pelt_setup ps;
         ps.count = (int)count;
-        /* Shingling: a feather should come out from under the ones behind it
-         * at `overlap` of its length. Blue-noise neighbours ahead along the
-         * flow sit partly to the side, and a length of 1.25 mean spacings
-         * per (1 - overlap) does it (measured by test_layout, docs/layouts.md). */
-        double ahead = 1.25 * sqrt(sf.area / ps.count);
+        ps.effective_area = effective_area(&sf, axis);
+        /* The largest feathers: the spacing of size-1 feathers over the effective area. */
+        double ahead = 1.25 * sqrt(ps.effective_area / ps.count);
         ps.length = p->feather_length > 0.0 ? p->feather_length : ahead / (1.0 - overlap);
         ps.elevation = p->elevation > 0.0 ? p->elevation : plm_radians(8.0);
         ps.max_elevation = plm_radians(80.0);
         ps.var = plm_layout_ranges_of(&p->variation);
+        /* A pelt's neighbours differ in length by a coefficient of variation of about 9%. */
+        if (!p->variation.none && !(p->variation.scale > 0.0))
+            ps.var.scale = PLM_PELT_SCALE_VARIATION;
         ps.variants = p->variants > 0 ? p->variants : 4;
-        vec3 axis = v3_length(p->axis) > 0.0 ? p->axis : v3(0, -1, 0);
         rc = pelt(&sf, axis, &ps, p->seed, species, species_count, out, err);
     }
-    free(sf.cdf);
+    surface_free(&sf);
     if (rc != PLM_OK)
         plm_layout_free(out);
     return rc;
@@ -388,7 +546,11 @@ plm_result plm_layout_ball(const plm_ball_params *p, const plm_layout_species *s
     if (rc != PLM_OK)
         return rc;
     pelt_setup ps;
+    rc = size_init(&sf, v3(0, -1, 0), 1.0, 1.0, 1.0, err); /* all one size */
+    if (rc != PLM_OK)
+        return rc;
     ps.count = p->count > 0 ? p->count : 496;
+    ps.effective_area = sf.area;
     ps.length = p->feather_length > 0.0 ? p->feather_length : 2.0 * sf.radius;
     ps.elevation = 0.5 * PLM_PI - spread;
     ps.max_elevation = 0.5 * PLM_PI;

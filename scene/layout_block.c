@@ -15,7 +15,7 @@
 
 static const plm_param variation_params[] = {
     {"scale", PLM_PARAM_NUMBER, offsetof(plm_layout_variation, scale), 0.0, 0.9, "",
-     "size factor drawn in [1 - scale, 1 + scale]; 0 = 0.1", 0},
+     "size factor drawn in [1 - scale, 1 + scale]; 0 = 0.15 in a pelt, else 0.1", 0},
     {"yaw", PLM_PARAM_ANGLE, offsetof(plm_layout_variation, yaw), 0.0, 90.0, "degrees",
      "turn about the surface normal drawn in [-yaw, yaw]; 0 = 6", 0},
     {"lift", PLM_PARAM_ANGLE, offsetof(plm_layout_variation, lift), 0.0, 45.0, "degrees",
@@ -40,6 +40,12 @@ static const plm_param pelt_params[] = {
      "length of a feather of scale 1; 0 = spacing / (1 - overlap)", 0},
     {"elevation", PLM_PARAM_ANGLE, offsetof(plm_pelt_params, elevation), 0.0, 80.0, "degrees",
      "angle between a feather's base and the surface; 0 = 8", 0},
+    {"head_size", PLM_PARAM_NUMBER, offsetof(plm_pelt_params, head_size), 0.0, 1.0, "",
+     "size of the feathers at the head end of the flow relative to the largest; 0 = 0.6", 0},
+    {"edge_size", PLM_PARAM_NUMBER, offsetof(plm_pelt_params, edge_size), 0.0, 1.0, "",
+     "size of the feathers at the surface's edges relative to the largest; 0 = 0.6", 0},
+    {"edge_width", PLM_PARAM_NUMBER, offsetof(plm_pelt_params, edge_width), 0.0, BIG, "layout units",
+     "how far from an edge feathers shrink; 0 = a feather's length", 0},
     {"variants", PLM_PARAM_INT, offsetof(plm_pelt_params, variants), 0, 64, "",
      "distinct feathers generated per species; 0 = 4", 0},
     {"seed", PLM_PARAM_SEED, offsetof(plm_pelt_params, seed), 0, 2147483647, "", "placement and variation", 0},
