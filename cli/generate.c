@@ -11,6 +11,7 @@
 #include "cli/species_sheet.h"
 #include "common/image_io.h"
 #include "common/json.h"
+#include "scene/feathers.h"
 #include "texture/feather.h"
 #include "texture/preview.h"
 
@@ -76,13 +77,9 @@ static int one_feather(const char *species, const char *out, const char *barb_pn
         return 1;
     }
     cJSON *optics = NULL;
+    rgb rachis = rgb_gray(0.0);
     plm_outputs outputs = {0};
-    plm_result r = PLM_OK;
-    if (!fo->no_meshes && plm_json_load(species, &optics, &err) == PLM_OK) {
-        cJSON *block = cJSON_DetachItemFromObjectCaseSensitive(optics, "optics");
-        cJSON_Delete(optics);
-        optics = block;
-    }
+    plm_result r = fo->no_meshes ? PLM_OK : plm_species_optics_load(species, &optics, &rachis, &err);
     if (r == PLM_OK && !(plm_outputs_folder(&outputs, "-o", out) && (!barb_png || plm_outputs_file(&outputs, "--barb-preview", barb_png)))) {
         plm_species_free(&sp);
         cJSON_Delete(optics);
@@ -97,7 +94,7 @@ static int one_feather(const char *species, const char *out, const char *barb_pn
                           f.vane.triangle_count, f.rachis.triangle_count);
         n += snprintf(summary + n, sizeof summary - (size_t)n, "textures %dx%d: ", fo->texture_width, fo->texture_height);
         r = fo->no_meshes ? plm_feather_write_textures(&f, out, files, &err)
-                          : plm_feather_write(&f, optics, out, files, &err);
+                          : plm_feather_write(&f, optics, rachis, out, files, &err);
         list_files(&f, fo, files, summary + n, sizeof summary - (size_t)n);
         if (r == PLM_OK && barb_png)
             r = barb_preview(&f, barb_png, &err);

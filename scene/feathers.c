@@ -43,13 +43,35 @@ static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm
     return NULL;
 }
 
+/* A species' optics block (root's; absent: an empty one, which means every
+ * default) into the feather material, and a copy of the block. `at` is the
+ * species' field path in `file` ("" for a species file). */
+static plm_result read_optics(const char *file, const char *at, cJSON *root, plm_material *feather, cJSON **optics_out,
+                              plm_error *err)
+{
+    static const char *const optics_keys[] = {"barb", "barbule", "masking", NULL};
+    const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
+    if (!optics)
+        optics = cJSON_AddObjectToObject(root, "optics");
+    plm_json_reader r = {file, err, 0};
+    char path[PLM_SPECIES_PATH_MAX];
+    snprintf(path, sizeof path, "%s%soptics", at, at[0] ? "." : "");
+    plm_result rc = optics ? plm_feather_optics_read(&r, optics, path, optics_keys, feather)
+                           : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    if (rc == PLM_OK && !(*optics_out = cJSON_Duplicate(optics, 1))) {
+        free(feather->feather);
+        feather->feather = NULL;
+        rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    return rc;
+}
+
 /* The species parsed twice over: its shape and pigment by generate/, its
  * optics block (which generate/ does not keep) into the feather material.
  * A species file, or one inline in another file (then messages give its path there). */
 static plm_result read_species(const plm_feather_request *q, plm_species *species, plm_material *feather,
                                cJSON **optics_out, plm_error *err)
 {
-    static const char *const optics_keys[] = {"barb", "barbule", "masking", NULL};
     cJSON *root = NULL;
     const char *at = q->inline_species ? q->inline_path : "";
     plm_result rc = q->inline_species ? ((root = cJSON_Duplicate(q->inline_species, 1))
@@ -59,20 +81,22 @@ static plm_result read_species(const plm_feather_request *q, plm_species *specie
     if (rc != PLM_OK)
         return rc;
     rc = plm_species_parse_at(root, q->species, at, species, err);
-    if (rc == PLM_OK) {
-        /* No optics block: an empty one, which means every default. */
-        const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
-        if (!optics)
-            optics = cJSON_AddObjectToObject(root, "optics");
-        plm_json_reader r = {q->species, err, 0};
-        char path[PLM_SPECIES_PATH_MAX];
-        snprintf(path, sizeof path, "%s%soptics", at, at[0] ? "." : "");
-        rc = optics ? plm_feather_optics_read(&r, optics, path, optics_keys, feather)
-                    : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
-        if (rc == PLM_OK && !(*optics_out = cJSON_Duplicate(optics, 1)))
-            rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
-        if (rc != PLM_OK)
-            plm_species_free(species);
+    if (rc == PLM_OK && (rc = read_optics(q->species, at, root, feather, optics_out, err)) != PLM_OK)
+        plm_species_free(species);
+    cJSON_Delete(root);
+    return rc;
+}
+
+plm_result plm_species_optics_load(const char *species, cJSON **optics, rgb *rachis, plm_error *err)
+{
+    cJSON *root = NULL;
+    plm_material feather;
+    memset(&feather, 0, sizeof feather);
+    *optics = NULL;
+    plm_result rc = plm_json_load(species, &root, err);
+    if (rc == PLM_OK && (rc = read_optics(species, "", root, &feather, optics, err)) == PLM_OK) {
+        *rachis = feather.reflectance;
+        free(feather.feather);
     }
     cJSON_Delete(root);
     return rc;
@@ -97,7 +121,7 @@ static struct plm_feather_params *same_optics(const plm_feather_cache *c, const 
 
 /* The feather's files in its own folder of the cache's asset folder. */
 static plm_result write_assets(const plm_feather_cache *cache, const char *name, const plm_feather *f,
-                               const cJSON *optics, plm_error *err)
+                               const cJSON *optics, rgb rachis, plm_error *err)
 {
     char dir[PLM_PATH_MAX];
     int n = snprintf(dir, sizeof dir, "%s/%02d-%s", cache->asset_dir, cache->count, name);
@@ -106,7 +130,7 @@ static plm_result write_assets(const plm_feather_cache *cache, const char *name,
     for (char *c = dir + n - strlen(name); *c; ++c)
         if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-", *c))
             *c = '_';
-    return plm_feather_write(f, optics, dir, NULL, err);
+    return plm_feather_write(f, optics, rachis, dir, NULL, err);
 }
 
 /* Generates the feather and adds its two meshes and two materials. */
@@ -153,7 +177,7 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
     plm_feather_options options = {q->level, q->texture_size, q->texture_size, 0, 0, !has_pigment};
     rc = plm_feather_generate(&species, &options, &f, err);
     if (rc == PLM_OK && cache->asset_dir)
-        rc = write_assets(cache, name, &f, *optics, err);
+        rc = write_assets(cache, name, &f, *optics, rachis.reflectance, err);
     if (rc == PLM_OK) {
         rc = plm_feather_texture_from_pixels(f.texture.width, f.texture.height, f.texture.pixels, &feather.texture,
                                              err);

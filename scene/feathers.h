@@ -61,4 +61,12 @@ plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, con
 
 void plm_feather_cache_free(plm_feather_cache *cache);
 
+/* A species file's optics block as every scene reads it (checked against the
+ * feather, fiber and masking tables; an absent block is every default): a
+ * copy of the block for feather.json's feather material (the caller deletes
+ * it), and the rachis colour it gives the rachis mesh (rachis_reflectance or
+ * its default). `plumage generate` writes feather.json from these, so a
+ * feather's rachis is the same colour however it reaches the renderer. */
+plm_result plm_species_optics_load(const char *species, cJSON **optics, rgb *rachis, plm_error *err);
+
 #endif

@@ -85,6 +85,8 @@ bad split_too_deep 'shape\.splits\.list\[0\]\.depth.*out of range' \
 bad unknown_field 'shape\.rachis\.colour.*unknown field' '{"shape": {"rachis": {"colour": 1}}}'
 bad tip_shape 'shape\.vane\.tip\.shape' '{"shape": {"vane": {"tip": {"shape": "square"}}}}'
 bad malformed 'bad_malformed\.json:[0-9]+:[0-9]+' '{"shape": {'
+# The optics block is read as every scene reads it, so feather.json cannot carry one the renderer refuses.
+bad optics 'bad_optics\.json: optics\.barb.*frobnicate' '{"optics": {"barb": {"frobnicate": 1}}}'
 expect_stderr "missing species file" "no_such\.json" "$PLUMAGE" generate --species no_such.json -o x
 expect_stderr "unknown option" "--frobnicate" "$PLUMAGE" generate --frobnicate
 expect_stderr "level out of range" "--level" "$PLUMAGE" generate --species "$SPECIES/remex_pigeon.json" -o y --level 9

@@ -106,9 +106,9 @@ static cJSON *vec3_json(vec3 v)
 }
 
 /* A scene for `plumage render`: the two meshes, a feather material on the
- * vane, a diffuse rachis, a camera looking at the dorsal side from +z and
+ * vane, a diffuse rachis in the species' rachis colour, a camera looking at the dorsal side from +z and
  * framing the whole feather, and a sky with a sun. */
-static cJSON *scene_json(const plm_feather *f, const cJSON *optics, const char *texture_file)
+static cJSON *scene_json(const plm_feather *f, const cJSON *optics, rgb rachis_rgb, const char *texture_file)
 {
     vec3 lo = v3(1e30, 1e30, 1e30), hi = v3(-1e30, -1e30, -1e30);
     mesh_bounds(&f->vane, &lo, &hi);
@@ -152,7 +152,7 @@ static cJSON *scene_json(const plm_feather *f, const cJSON *optics, const char *
     cJSON_AddItemToObject(materials, "feather", feather);
     cJSON *rachis = cJSON_AddObjectToObject(materials, "rachis");
     cJSON_AddStringToObject(rachis, "type", "diffuse");
-    cJSON_AddItemToObject(rachis, "reflectance", vec3_json(v3(0.6, 0.55, 0.45)));
+    cJSON_AddItemToObject(rachis, "reflectance", vec3_json(v3(rachis_rgb.r, rachis_rgb.g, rachis_rgb.b)));
     cJSON *objects = cJSON_AddArrayToObject(root, "objects");
     const char *pairs[2][2] = {{"vane", "feather"}, {"rachis", "rachis"}};
     for (int i = 0; i < 2; ++i) {
@@ -175,7 +175,7 @@ static plm_result write_text(const char *path, const char *text, plm_error *err)
     return plm_atomic_commit(&af, err);
 }
 
-plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, const char *dir,
+plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, rgb rachis, const char *dir,
                              const plm_feather_files *files, plm_error *err)
 {
     plm_feather_files def = {0};
@@ -195,7 +195,7 @@ plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, const ch
         rc = plm_feather_write_textures(f, dir, files, err);
     if (rc != PLM_OK || !f->texture.pixels)
         return rc;
-    cJSON *scene = scene_json(f, optics, files->no_exr ? "texture.png" : "texture.exr");
+    cJSON *scene = scene_json(f, optics, rachis, files->no_exr ? "texture.png" : "texture.exr");
     char *text = scene ? cJSON_Print(scene) : NULL;
     cJSON_Delete(scene);
     if (!text)

@@ -53,9 +53,11 @@ typedef struct plm_feather_files {
  * present), and feather.json (rendering it writes feather.exr/.png into the
  * working directory, hence the texture's other name),
  * a scene for `plumage render` whose feather material carries `optics` (a
- * species' optics block, copied as it is; NULL: the renderer's defaults).
+ * species' optics block, copied as it is; NULL: the renderer's defaults) and
+ * whose rachis mesh is diffuse in the colour `rachis`, the one the renderer
+ * reads from those optics (scene/feathers.h: plm_species_optics_load).
  * Each file is written atomically. */
-plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, const char *dir,
+plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, rgb rachis, const char *dir,
                              const plm_feather_files *files, plm_error *err);
 
 /* Writes only the textures (the `plumage texture` command). */

@@ -1,0 +1,37 @@
+# One feather looks the same however it reaches the renderer: the rachis of
+# `plumage generate`'s feather.json and of the same species generated inside a
+# scene (the path pelts, wings and batches take) is the species' rachis
+# colour, in a render.
+# usage: bash cli_rachis.sh <plumage> <scratch dir>
+set -u
+source "$(dirname "$0")/lib_cli.sh"
+SPECIES=${PLUMAGE_SOURCE_DIR:-$(dirname "$0")/..}/presets/species/covert_parrot.json
+ALBEDO="0.16 0.22 0.06" # the species' optics.rachis_reflectance
+
+expect_ok "generate" "$PLUMAGE" generate --species "$SPECIES" -o feather --level 2 --texture-size 128
+# The rachis from above at mid-length, 0.07 mm a pixel (the shaft is about 0.5 mm wide there), under a
+# white sky alone and with one scattering event: each pixel on the shaft is its albedo times the part
+# of the sky it sees.
+VIEW=(--set 'camera={"position": [0, 20, 60], "look_at": [0, 20, 0], "fov": 1}'
+      --set 'film={"width": 16, "height": 16, "spp": 64, "max_depth": 1}'
+      --set 'lights=[{"type": "environment", "radiance": [1, 1, 1]}]')
+echo "{\"feathers\": {\"f\": {\"species\": \"$SPECIES\", \"level\": 2, \"texture_size\": 128}},
+       \"objects\": [{\"feather\": \"f\"}]}" > in_scene.json
+expect_ok "render feather.json" "$PLUMAGE" render feather/feather.json --quiet "${VIEW[@]}" --exr from_file.exr -o from_file.png
+expect_ok "render the species in a scene" "$PLUMAGE" render in_scene.json --quiet "${VIEW[@]}" --exr in_scene.exr \
+    -o in_scene.png
+
+# The mean of the middle 2 x 8 pixels: the top of the shaft.
+shaft() { oiiotool "$1" --cut 2x8+7+4 -o shaft.exr && oiiotool --stats shaft.exr | awk '/Stats Avg:/ { print $3, $4, $5 }'; }
+for image in from_file in_scene; do
+    read -r r g b <<<"$(shaft $image.exr)"
+    # Each channel the albedo times the same visible sky, between 60% and 100% of it.
+    if awk -v r="$r" -v g="$g" -v b="$b" -v a="$ALBEDO" 'BEGIN { split(a, k, " ")
+            v = r / k[1]; if (v < 0.6 || v > 1.02) exit 1
+            if (g / k[2] < 0.95 * v || g / k[2] > 1.05 * v || b / k[3] < 0.95 * v || b / k[3] > 1.05 * v) exit 1 }'; then
+        pass "$image: the rachis renders in the species' colour ($r $g $b)"
+    else
+        fail "$image: the rachis is $r $g $b, not in proportion to the species' $ALBEDO"
+    fi
+done
+finish
