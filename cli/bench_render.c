@@ -46,10 +46,7 @@ static float *vane_texture_pixels(int w, int h)
 /* A sky gradient with a small bright sun, as a 64x32 lat-long map. */
 static plm_light sky_light(void)
 {
-    plm_light l;
-    memset(&l, 0, sizeof l);
-    l.type = PLM_LIGHT_ENV_MAP;
-    l.radiance = rgb_gray(1.0);
+    plm_light l = plm_light_default(PLM_LIGHT_ENV_MAP);
     plm_image *im = &l.image;
     im->width = 64, im->height = 32, im->channels = 3;
     im->pixels = malloc(sizeof(float) * 64 * 32 * 3);

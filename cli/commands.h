@@ -10,6 +10,7 @@ int cmd_batch(int argc, char **argv);
 int cmd_generate(int argc, char **argv);
 int cmd_texture(int argc, char **argv);
 int cmd_params(int argc, char **argv);
+int cmd_fireflies(int argc, char **argv);
 int bench_generate(int argc, char **argv);
 int bench_render(int argc, char **argv);
 int bench_scene(int argc, char **argv);

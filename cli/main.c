@@ -17,6 +17,7 @@ static const command commands[] = {
     {"probe", cmd_probe, "answer questions about the optical models without rendering (CSV and plots)"},
     {"params", cmd_params, "list the scene format's parameter blocks: fields, defaults, ranges, units"},
     {"render", cmd_render, "render a scene file to a linear EXR and a tone-mapped PNG (path tracer)"},
+    {"fireflies", cmd_fireflies, "count a rendered EXR's fireflies and compare its mean with a reference's"},
     {"batch", cmd_batch, "run a manifest of render jobs or a parameter sweep, locally or as a Slurm job array"},
     {"bench", cmd_bench, "print performance figures (ns per call, samples per second, memory)"},
 };

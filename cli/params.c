@@ -32,9 +32,9 @@ int cmd_params(int argc, char **argv)
     plm_command_help help = {
         "plumage params [BLOCK...] [--markdown]",
         "Lists the fields of the scene format's and the species format's parameter blocks: type, default,\n"
-        "allowed range, unit and meaning. BLOCK is a block's name (camera, film, feather, fiber, pigments, masking,\n"
-        "pelt, ball, wing, variation; shape, shape.rachis, ..., pigment) or a group, scene or species (default:\n"
-        "all).\n"
+        "allowed range, unit and meaning. BLOCK is a block's name (camera, film, the lights environment, sky,\n"
+        "distant, sphere and quad, feather, fiber, pigments, masking, pelt, ball, wing, variation; shape,\n"
+        "shape.rachis, ..., pigment) or a group, scene or species (default: all).\n"
         "These tables are the ones scene and species files are checked against."};
     const char *names[16];
     int n_names = 0;
@@ -43,6 +43,9 @@ int cmd_params(int argc, char **argv)
         return rc == 1 ? 0 : 2;
     plm_scene scene;
     plm_scene_init(&scene);
+    const plm_light environment = plm_light_default(PLM_LIGHT_CONSTANT_ENV), sky = plm_light_default(PLM_LIGHT_SKY),
+                    distant = plm_light_default(PLM_LIGHT_DISTANT), sphere = plm_light_default(PLM_LIGHT_SPHERE),
+                    quad = plm_light_default(PLM_LIGHT_QUAD);
     plm_feather_params feather;
     plm_feather_params_default(&feather);
     plm_material material;
@@ -61,6 +64,11 @@ int cmd_params(int argc, char **argv)
     const block_entry blocks[] = {
         {"scene", &plm_camera_param_block, 1, {""}, {&scene.camera}},
         {"scene", &plm_film_param_block, 1, {""}, {&scene.film}},
+        {"scene", &plm_environment_light_param_block, 1, {""}, {&environment}},
+        {"scene", &plm_sky_light_param_block, 1, {""}, {&sky}},
+        {"scene", &plm_distant_light_param_block, 1, {""}, {&distant}},
+        {"scene", &plm_sphere_light_param_block, 1, {""}, {&sphere}},
+        {"scene", &plm_quad_light_param_block, 1, {""}, {&quad}},
         {"scene", &plm_feather_material_param_block, 1, {""}, {&material}},
         {"scene", &plm_fiber_param_block, 2, {"barb", "barbule"}, {&feather.barb, &feather.barbule}},
         {"scene", &plm_pigments_param_block, 1, {""}, {&pigments}},

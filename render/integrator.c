@@ -5,6 +5,7 @@
 typedef enum segment_end { END_ESCAPED, END_LIGHT, END_SURFACE } segment_end;
 
 typedef struct segment {
+    double t;     /* END_SURFACE, END_LIGHT: the ray parameter of the end */
     plm_hit hit;  /* END_SURFACE */
     int light;    /* END_LIGHT: index of the area light */
     rgb emitted;  /* END_LIGHT */
@@ -65,6 +66,7 @@ static segment_end trace_segment(const plm_world *w, vec3 o, vec3 d, double spre
             seg->emitted = le;
         }
     }
+    seg->t = t_surface;
     if (light >= 0) {
         seg->light = light;
         return END_LIGHT;
@@ -91,7 +93,8 @@ static rgb emission_weight(const plm_world *w, int light, rgb le, vec3 prev_p, v
         return le;
     if (est == PLM_ESTIMATOR_NEE)
         return rgb_gray(0.0);
-    double light_pdf = (known_pdf ? *known_pdf : plm_light_pdf(&w->lights[light], prev_p, d)) / w->light_count;
+    double light_pdf = (known_pdf ? *known_pdf : plm_light_pdf(&w->lights[light], prev_p, d)) *
+                       plm_world_light_pick(w, light);
     return rgb_scale(le, plm_power_heuristic(prev_pdf, light_pdf));
 }
 
@@ -104,12 +107,12 @@ static vec2 sample_2d(const plm_sampler *sampler, uint32_t dim, plm_rng *rng)
     return v2(u1, plm_rng_uniform(rng));
 }
 
-/* Next-event estimation: one light chosen uniformly, one sample of it (u). */
+/* Next-event estimation: one light chosen by the light it brings
+ * (plm_world_pick_light), one sample of it (u). */
 static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *bsdf, vec2 u, plm_rng *rng,
                         plm_estimator est, long long *rays)
 {
-    int li = (int)(plm_rng_uniform(rng) * w->light_count);
-    li = li < w->light_count ? li : w->light_count - 1;
+    int li = plm_world_pick_light(w, plm_rng_uniform(rng));
     plm_light_sample ls;
     if (!plm_light_sample_from(&w->lights[li], hit->p, u.x, u.y, &ls) || rgb_is_black(ls.radiance))
         return rgb_gray(0.0);
@@ -128,11 +131,53 @@ static rgb direct_light(const plm_world *w, const plm_hit *hit, const plm_bsdf *
         return rgb_gray(0.0);
     /* MIS weighs against the BSDF's sampling, technique by technique (optics/bsdf.h). */
     int weighted = !ls.is_delta && est != PLM_ESTIMATOR_NEE;
-    double pick = 1.0 / w->light_count, light_pdf = pick * ls.pdf;
+    double light_pdf = plm_world_light_pick(w, li) * ls.pdf;
+    if (!(light_pdf > 0.0))
+        return rgb_gray(0.0);
     rgb f = weighted ? plm_bsdf_eval_mis(bsdf, ls.wi, light_pdf) : plm_bsdf_eval(bsdf, ls.wi);
     if (rgb_is_black(f))
         return rgb_gray(0.0);
     return rgb_scale(rgb_mul(f, ls.radiance), visible / light_pdf);
+}
+
+/* Where the ray o + t d, t in (0, tmax), meets the ground from above. */
+static int ground_hit(const plm_ground *g, vec3 o, vec3 d, double tmax, double *t)
+{
+    double above = v3_dot(o, g->normal) - g->height, down = -v3_dot(d, g->normal);
+    if (!g->enabled || !(above > 0.0 && down > 0.0))
+        return 0;
+    *t = above / down;
+    return *t < tmax;
+}
+
+/* A camera ray that reaches the ground (the shadow catcher) before anything
+ * else: the background it would have seen along d, times the share of the
+ * lights' irradiance that the scene leaves the ground at p. One light sample
+ * (u) estimates the share the scene takes away, the sample's irradiance
+ * times its blocked fraction over the unobstructed irradiance: unbiased,
+ * and without noise where nothing is in the way (a single sample can take
+ * away more than all, a pixel's mean cannot). Area lights are not part of it. */
+static rgb catch_shadow(const plm_world *w, vec3 p, vec3 d, vec2 u, plm_rng *rng, long long *rays)
+{
+    rgb background = rgb_gray(0.0);
+    for (int i = 0; i < w->light_count; ++i)
+        if (plm_light_is_infinite(&w->lights[i]) && w->lights[i].desc->visible)
+            background = rgb_add(background, plm_light_environment(&w->lights[i], d, NULL));
+    int li = plm_world_pick_light(w, plm_rng_uniform(rng));
+    const plm_render_light *l = &w->lights[li];
+    vec3 n = w->ground.normal;
+    plm_light_sample ls;
+    if (rgb_is_black(background) || !(plm_light_is_infinite(l) || l->desc->type == PLM_LIGHT_DISTANT) ||
+        !plm_light_sample_from(l, p, u.x, u.y, &ls) || !(v3_dot(ls.wi, n) > 0.0))
+        return background;
+    double pdf = plm_world_light_pick(w, li) * ls.pdf;
+    if (!(pdf > 0.0))
+        return background;
+    double blocked = 1.0 - plm_shadow_transmittance(w, v3_madd(p, n, w->epsilon), ls.wi, ls.dist, rays);
+    rgb e = rgb_scale(ls.radiance, v3_dot(ls.wi, n) * blocked / pdf), e0 = w->ground.irradiance;
+    rgb kept = rgb_make(e0.r > 0.0 ? 1.0 - e.r / e0.r : 1.0, e0.g > 0.0 ? 1.0 - e.g / e0.g : 1.0,
+                        e0.b > 0.0 ? 1.0 - e.b / e0.b : 1.0);
+    return rgb_mul(background, kept);
 }
 
 rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_estimator est,
@@ -148,6 +193,12 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         /* Camera rays carry the pixel cone (near-field shading); after a scattering event it is lost. */
         segment_end end =
             trace_segment(w, o, d, depth == 0 ? w->camera.pixel_spread : 0.0, &numbers, &seg, rays);
+        double t_ground;
+        if (depth == 0 && ground_hit(&w->ground, o, d, end == END_ESCAPED ? INFINITY : seg.t, &t_ground)) {
+            vec2 u = sample_2d(sampler, PLM_SAMPLE_DIM(PLM_SAMPLE_LIGHT, 0), rng);
+            radiance = catch_shadow(w, v3_madd(o, d, t_ground), d, u, rng, rays);
+            break;
+        }
         if (end == END_LIGHT) {
             rgb le = emission_weight(w, seg.light, seg.emitted, prev_p, d, prev_pdf, depth == 0, est, NULL);
             radiance = rgb_add(radiance, rgb_mul(beta, le));
@@ -155,7 +206,8 @@ rgb plm_path_radiance(const plm_world *w, vec3 o, vec3 d, int max_depth, plm_est
         }
         if (end == END_ESCAPED) {
             for (int i = 0; i < w->light_count; ++i)
-                if (plm_light_is_infinite(&w->lights[i])) {
+                /* Camera rays (passing vanes or not) do not see a light hidden from the camera. */
+                if (plm_light_is_infinite(&w->lights[i]) && (depth > 0 || w->lights[i].desc->visible)) {
                     /* The radiance's lookup gives the density MIS needs, when it does;
                      * otherwise none is passed on, so a weighting that needs one looks it up. */
                     double pdf, *known = depth > 0 && est == PLM_ESTIMATOR_MIS ? &pdf : NULL;

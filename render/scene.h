@@ -39,24 +39,44 @@ typedef struct plm_film_desc {
 
 typedef enum plm_light_type {
     PLM_LIGHT_CONSTANT_ENV, /* uniform radiance from every direction */
-    PLM_LIGHT_ENV_MAP,      /* lat-long image, y up */
+    PLM_LIGHT_ENV_MAP,      /* lat-long image, its top row toward `up` */
     PLM_LIGHT_DISTANT,      /* a sun: irradiance from one direction */
     PLM_LIGHT_SPHERE,       /* uniformly emitting sphere */
-    PLM_LIGHT_QUAD          /* uniformly emitting parallelogram */
+    PLM_LIGHT_QUAD,         /* uniformly emitting parallelogram */
+    PLM_LIGHT_SKY           /* analytic clear sky and sun disk (render/sky.h) */
 } plm_light_type;
+
+/* A clear sky and its sun (Preetham, Shirley and Smits 1999; render/sky.h). */
+typedef struct plm_sky_params {
+    double sun_elevation; /* radians above the horizon */
+    double sun_azimuth;   /* radians from north (-z when up is +y) toward east (+x) */
+    double turbidity;     /* haze: 2 very clear, 3 clear, 6 hazy */
+    double sun_size;      /* angular diameter of the sun's disk, radians; its irradiance does not change with it */
+    int sun;              /* 0: the sky without the sun's disk */
+    rgb ground_albedo;    /* below the horizon: a diffuse ground lit by this sky and sun */
+} plm_sky_params;
 
 typedef struct plm_light {
     plm_light_type type;
-    rgb radiance;          /* constant env, sphere, quad; env map: scale applied to the image */
+    rgb radiance;          /* constant env, sphere, quad; env map: colour filter over the image */
+    double intensity;      /* environment and sky: multiplies their radiance */
+    int visible;           /* environment and sky: camera rays see them (0: they see black there) */
+    vec3 up;               /* environment and sky: unit zenith (the map's top row) */
+    double rotation;       /* env map: radians about up */
+    int ground;            /* environment and sky: a shadow catcher at ground_height (docs/rendering.md) */
+    double ground_height;  /* along up */
+    plm_image image;       /* env map (RGB) */
+    plm_sky_params sky;    /* sky */
     rgb irradiance;        /* distant: on a surface facing the light */
     vec3 direction;        /* distant: unit vector toward the light */
     vec3 center;           /* sphere */
     double radius;
     vec3 corner, edge_u, edge_v; /* quad: emits toward edge_u x edge_v (both sides if two_sided) */
     int two_sided;
-    plm_image image;       /* env map (RGB) */
-    double rotation;       /* env map: radians about +y */
 } plm_light;
+
+/* A light of the type with every documented default (docs/scene-format.md). */
+plm_light plm_light_default(plm_light_type type);
 
 typedef enum plm_material_type {
     PLM_MATERIAL_DIFFUSE = 0,
@@ -128,6 +148,14 @@ typedef struct plm_scene {
 extern const plm_param_block plm_camera_param_block;
 extern const plm_param_block plm_film_param_block;
 extern const plm_param_block plm_feather_material_param_block;
+/* The lights' blocks by their "type" in a scene file; offsets into plm_light.
+ * "environment" serves the constant sky and the env map (its "map" field is
+ * read by the scene reader). */
+extern const plm_param_block plm_environment_light_param_block;
+extern const plm_param_block plm_sky_light_param_block;
+extern const plm_param_block plm_distant_light_param_block;
+extern const plm_param_block plm_sphere_light_param_block;
+extern const plm_param_block plm_quad_light_param_block;
 
 /* The feather material's defaults for the fields of that block. */
 void plm_feather_material_default(plm_material *m);

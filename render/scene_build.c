@@ -19,18 +19,14 @@ plm_material plm_diffuse_material(const char *name, rgb reflectance, double tran
 
 plm_light plm_constant_sky(rgb radiance)
 {
-    plm_light l;
-    memset(&l, 0, sizeof l);
-    l.type = PLM_LIGHT_CONSTANT_ENV;
+    plm_light l = plm_light_default(PLM_LIGHT_CONSTANT_ENV);
     l.radiance = radiance;
     return l;
 }
 
 plm_light plm_quad_light(vec3 corner, vec3 edge_u, vec3 edge_v, rgb radiance)
 {
-    plm_light l;
-    memset(&l, 0, sizeof l);
-    l.type = PLM_LIGHT_QUAD;
+    plm_light l = plm_light_default(PLM_LIGHT_QUAD);
     l.corner = corner;
     l.edge_u = edge_u;
     l.edge_v = edge_v;

@@ -330,6 +330,8 @@ void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u
     *d = v3_normalize(dir);
 }
 
+static plm_result choose_lights(plm_world *w, plm_error *err);
+
 plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
 {
     memset(w, 0, sizeof *w);
@@ -375,6 +377,47 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
         }
         w->infinite_lights += plm_light_is_infinite(&w->lights[i]);
     }
+    return choose_lights(w, err);
+}
+
+int plm_world_pick_light(const plm_world *w, double u)
+{
+    int i = 0;
+    while (i + 1 < w->light_count && (u >= w->light_cdf[i + 1] || plm_world_light_pick(w, i) <= 0.0))
+        ++i;
+    return i;
+}
+
+/* Next-event estimation's choice among the lights, by the light each
+ * brings to the scene's centre (uniform if none brings any). */
+static plm_result choose_lights(plm_world *w, plm_error *err)
+{
+    int n = w->light_count;
+    w->light_cdf = malloc(sizeof(double) * (size_t)(n + 1));
+    if (!w->light_cdf) {
+        plm_world_free(w);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    vec3 centre = v3_scale(v3_add(w->bounds_min, w->bounds_max), 0.5);
+    double total = 0.0;
+    w->light_cdf[0] = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double p = plm_light_power(&w->lights[i], centre);
+        total += isfinite(p) && p > 0.0 ? p : 0.0;
+        w->light_cdf[i + 1] = total;
+    }
+    for (int i = 1; i <= n; ++i)
+        w->light_cdf[i] = total > 0.0 ? w->light_cdf[i] / total : (double)i / n;
+    if (n > 0)
+        w->light_cdf[n] = 1.0;
+    /* The first environment with a ground holds the shadow catcher. */
+    for (int i = 0; i < n && !w->ground.enabled; ++i) {
+        const plm_light *l = w->lights[i].desc;
+        if (plm_light_is_infinite(&w->lights[i]) && l->ground)
+            w->ground = (plm_ground){1, l->up, l->ground_height, rgb_gray(0.0)};
+    }
+    for (int i = 0; i < n && w->ground.enabled; ++i)
+        w->ground.irradiance = rgb_add(w->ground.irradiance, plm_light_irradiance(&w->lights[i], w->ground.normal));
     return PLM_OK;
 }
 
@@ -383,6 +426,7 @@ void plm_world_free(plm_world *w)
     for (int i = 0; i < w->light_count; ++i)
         plm_render_light_free(&w->lights[i]);
     free(w->lights);
+    free(w->light_cdf);
     if (w->top)
         rtcReleaseScene(w->top);
     for (int i = 0; i < w->prototype_count; ++i) {

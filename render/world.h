@@ -30,6 +30,17 @@ typedef struct plm_camera {
     double pixel_spread; /* a pixel cone's width per unit distance; 0 = no cone (film.far_field) */
 } plm_camera;
 
+/* A shadow catcher: the ground plane of an environment or sky light with
+ * "ground" (docs/rendering.md). Camera rays that reach it see the
+ * background they would have seen, times the fraction of the lights'
+ * irradiance the scene leaves the plane there. */
+typedef struct plm_ground {
+    int enabled;
+    vec3 normal;      /* unit, the light's up */
+    double height;    /* the plane: p . normal = height */
+    rgb irradiance;   /* the infinite and distant lights' on the plane with nothing in the way */
+} plm_ground;
+
 typedef struct plm_world {
     const plm_scene *scene;
     plm_embree embree;
@@ -40,6 +51,9 @@ typedef struct plm_world {
     plm_render_light *lights;
     int light_count;
     int infinite_lights;     /* how many of them are environment lights */
+    double *light_cdf;       /* light_count + 1: next-event estimation picks light i with probability
+                                light_cdf[i + 1] - light_cdf[i], in proportion to plm_light_power */
+    plm_ground ground;
     plm_camera camera;
     vec3 bounds_min, bounds_max;
     double epsilon;          /* ray offset, scaled to the scene */
@@ -93,6 +107,11 @@ void plm_camera_from_desc(const plm_camera_desc *d, int width, int height, int f
 /* Where a camera of vertical field of view fov (degrees) looking from
  * direction `from` at the centre of the world's bounds sees all of them. */
 vec3 plm_world_frame_position(const plm_world *w, vec3 from, double fov);
+
+/* Probability that next-event estimation picks light i. */
+static inline double plm_world_light_pick(const plm_world *w, int i) { return w->light_cdf[i + 1] - w->light_cdf[i]; }
+/* The light a uniform u in [0, 1) picks (one with a non-zero probability when there is one). */
+int plm_world_pick_light(const plm_world *w, double u);
 
 /* Camera ray through film position (x, y) in pixels (top-left origin), lens sample (u1, u2). */
 void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u2, vec3 *o, vec3 *d);

@@ -120,82 +120,63 @@ static plm_result read_film(const plm_json_reader *r, const cJSON *obj, plm_film
     return PLM_OK;
 }
 
+/* The environment's "map": a lat-long image of at least RGB. */
+static plm_result read_environment_map(const plm_json_reader *r, const cJSON *obj, const char *path, plm_light *l)
+{
+    char file[PLM_PATH_MAX];
+    plm_result rc = plm_scene_read_path(r, obj, path, "map", 0, file);
+    if (rc != PLM_OK || !file[0])
+        return rc;
+    l->type = PLM_LIGHT_ENV_MAP;
+    plm_image *im = &l->image;
+    rc = plm_image_read(file, &im->width, &im->height, &im->channels, &im->pixels, r->err);
+    if (rc != PLM_OK) {
+        plm_error_prefix(r->err, "%s: %s.map: ", r->file, path);
+        return rc;
+    }
+    if (im->channels < 3) {
+        free(im->pixels);
+        im->pixels = NULL;
+        return plm_json_fail(r, path, "map", "%s has %d channels, an environment map needs RGB", file, im->channels);
+    }
+    return PLM_OK;
+}
+
 static plm_result read_light(const plm_json_reader *r, const cJSON *obj, const char *path, plm_light *l)
 {
-    static const char *const types[] = {"environment", "distant", "sphere", "quad", NULL};
-    static const char *const keys[][7] = {
-        {"type", "radiance", "file", "rotation", NULL},
-        {"type", "direction", "irradiance", NULL},
-        {"type", "center", "radius", "radiance", NULL},
-        {"type", "corner", "edge_u", "edge_v", "radiance", "two_sided", NULL},
-    };
+    static const char *const types[] = {"environment", "sky", "distant", "sphere", "quad", NULL};
+    static const plm_light_type light_types[] = {PLM_LIGHT_CONSTANT_ENV, PLM_LIGHT_SKY, PLM_LIGHT_DISTANT,
+                                                 PLM_LIGHT_SPHERE, PLM_LIGHT_QUAD};
+    const plm_param_block *blocks[] = {&plm_environment_light_param_block, &plm_sky_light_param_block,
+                                       &plm_distant_light_param_block, &plm_sphere_light_param_block,
+                                       &plm_quad_light_param_block};
+    static const char *const map_extra[] = {"type", "map", NULL}, *const type_extra[] = {"type", NULL};
     int type = -1;
-    memset(l, 0, sizeof *l);
+    *l = plm_light_default(PLM_LIGHT_CONSTANT_ENV); /* the caller frees l->image whatever the result */
     if (!cJSON_IsObject(obj))
         return plm_json_fail(r, path, NULL, "expected an object");
     if (!cJSON_GetObjectItemCaseSensitive(obj, "type"))
-        return plm_json_fail(r, path, "type", "required: one of \"environment\", \"distant\", \"sphere\", \"quad\"");
+        return plm_json_fail(r, path, "type",
+                             "required: one of \"environment\", \"sky\", \"distant\", \"sphere\", \"quad\"");
     plm_result rc = plm_json_enum(r, obj, path, "type", types, 0, &type);
-    if (rc == PLM_OK)
-        rc = plm_json_check_object(r, obj, path, keys[type]);
-    if (rc == PLM_OK && type != 1)
-        rc = plm_json_rgb(r, obj, path, "radiance", rgb_gray(1.0), 0.0, BIG, &l->radiance);
     if (rc != PLM_OK)
         return rc;
-    if (type == 0) {
-        char file[PLM_PATH_MAX];
-        double rotation;
-        rc = plm_scene_read_path(r, obj, path, "file", 0, file);
-        if (rc == PLM_OK)
-            rc = plm_json_number(r, obj, path, "rotation", 0.0, -360.0, 360.0, &rotation);
-        if (rc != PLM_OK)
-            return rc;
-        l->rotation = plm_radians(rotation);
-        l->type = file[0] ? PLM_LIGHT_ENV_MAP : PLM_LIGHT_CONSTANT_ENV;
-        if (!file[0])
-            return PLM_OK;
-        plm_image *im = &l->image;
-        rc = plm_image_read(file, &im->width, &im->height, &im->channels, &im->pixels, r->err);
-        if (rc != PLM_OK) {
-            plm_error_prefix(r->err, "%s: %s.file: ", r->file, path);
-            return rc;
-        }
-        if (im->channels < 3) {
-            free(im->pixels);
-            im->pixels = NULL;
-            return plm_json_fail(r, path, "file", "%s has %d channels, an environment map needs RGB", file,
-                                 im->channels);
-        }
-        return PLM_OK;
-    }
-    if (type == 1) {
-        l->type = PLM_LIGHT_DISTANT;
-        rc = plm_json_vec3(r, obj, path, "direction", v3(0.0, 1.0, 0.0), -BIG, BIG, &l->direction);
-        if (rc == PLM_OK)
-            rc = plm_json_rgb(r, obj, path, "irradiance", rgb_gray(1.0), 0.0, BIG, &l->irradiance);
-        if (rc == PLM_OK && v3_length(l->direction) == 0.0)
+    *l = plm_light_default(light_types[type]);
+    /* Only the environment has a "map". */
+    rc = plm_params_read(r, obj, path, blocks[type], type == 0 ? map_extra : type_extra, l);
+    if (rc != PLM_OK)
+        return rc;
+    if (v3_length(l->up) == 0.0)
+        return plm_json_fail(r, path, "up", "must be a non-zero vector (the zenith)");
+    l->up = v3_normalize(l->up);
+    if (l->type == PLM_LIGHT_DISTANT) {
+        if (v3_length(l->direction) == 0.0)
             return plm_json_fail(r, path, "direction", "must be a non-zero vector (pointing toward the light)");
         l->direction = v3_normalize(l->direction);
-        return rc;
     }
-    if (type == 2) {
-        l->type = PLM_LIGHT_SPHERE;
-        rc = plm_json_vec3(r, obj, path, "center", v3(0.0, 0.0, 0.0), -BIG, BIG, &l->center);
-        if (rc == PLM_OK)
-            rc = plm_json_number(r, obj, path, "radius", 1.0, 1e-6, BIG, &l->radius);
-        return rc;
-    }
-    l->type = PLM_LIGHT_QUAD;
-    rc = plm_json_vec3(r, obj, path, "corner", v3(-0.5, 2.0, -0.5), -BIG, BIG, &l->corner);
-    if (rc == PLM_OK)
-        rc = plm_json_vec3(r, obj, path, "edge_u", v3(0.0, 0.0, 1.0), -BIG, BIG, &l->edge_u);
-    if (rc == PLM_OK)
-        rc = plm_json_vec3(r, obj, path, "edge_v", v3(1.0, 0.0, 0.0), -BIG, BIG, &l->edge_v);
-    if (rc == PLM_OK)
-        rc = plm_json_bool(r, obj, path, "two_sided", 0, &l->two_sided);
-    if (rc == PLM_OK && v3_length(v3_cross(l->edge_u, l->edge_v)) < 1e-12)
+    if (l->type == PLM_LIGHT_QUAD && v3_length(v3_cross(l->edge_u, l->edge_v)) < 1e-12)
         return plm_json_fail(r, path, "edge_v", "edge_u and edge_v must span a non-zero area");
-    return rc;
+    return type == 0 ? read_environment_map(r, obj, path, l) : PLM_OK;
 }
 
 static plm_result read_mesh(const plm_json_reader *r, const cJSON *obj, const char *path, plm_mesh *m)

@@ -76,8 +76,8 @@ open("huge.png", "wb").write(png)
 PY
 bad "a 10^5 x 10^5 texture" '{"materials": {"m": {"mask": "huge.png"}}}' \
     "absurd.json: materials.m.mask: .*huge.png: 100000x100000 pixels with 3 channels is over the image limit"
-bad "a 10^5 x 10^5 environment map" '{"lights": [{"type": "environment", "file": "huge.png"}]}' \
-    "absurd.json: lights\[0\].file: .*huge.png: 100000x100000 pixels with 3 channels is over the image limit"
+bad "a 10^5 x 10^5 environment map" '{"lights": [{"type": "environment", "map": "huge.png"}]}' \
+    "absurd.json: lights\[0\].map: .*huge.png: 100000x100000 pixels with 3 channels is over the image limit"
 PARROT="$PLUMAGE_SOURCE_DIR/presets/species/covert_parrot.json"
 bad "10^8 feathers in a pelt" \
     "{\"objects\": [{\"layout\": {\"type\": \"pelt\", \"species\": [\"$PARROT\"], \"count\": 100000000}}]}" \

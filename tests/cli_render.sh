@@ -55,9 +55,17 @@ cat > sky.json <<'JSON'
 JSON
 expect_ok "render an environment map" "$PLUMAGE" render sky.json --quiet
 expect_image "environment map EXR" 32 16 sky.exr
-sed 's/"lights": \[/"lights": [{"type": "environment", "file": "sky.exr", "rotation": 30}, /; s/"camera": {/"camera": {"aperture": 0.05, "focus_distance": 3, /' ok.json > envmap.json
+sed 's/"lights": \[/"lights": [{"type": "environment", "map": "sky.exr", "rotation": 30}, /; s/"camera": {/"camera": {"aperture": 0.05, "focus_distance": 3, /' ok.json > envmap.json
 expect_ok "environment map and thin lens" "$PLUMAGE" render envmap.json --quiet -o envmap.png
 expect_image "environment map and thin lens image" 40 30 envmap.png
+
+# The firefly count of a render, and its mean against another's (the same scene, another seed).
+expect_output "a uniform sky has no fireflies" "sky.exr: 32x16, fireflies .*: 0 of 512 pixels \(0.000%\)" \
+    "$PLUMAGE" fireflies sky.exr
+expect_output "means agree within the noise" "mean luminance .* reference .* \(z = [-+][0-3]\." \
+    "$PLUMAGE" fireflies t1.exr --reference s9.exr
+expect_stderr "fireflies: sizes must agree" "sizes must agree" "$PLUMAGE" fireflies t1.exr --reference sky.exr
+expect_stderr "fireflies: a missing image is named" "nowhere.exr" "$PLUMAGE" fireflies nowhere.exr
 
 # Ctrl-C: the image so far is written, the exit status says it was interrupted.
 sed 's/"spp": 4/"spp": 100000/; s/ok\.png/int.png/; s/ok\.exr/int.exr/' ok.json > long.json
@@ -90,7 +98,7 @@ bad_scene "malformed JSON" "bad.json:1:[0-9]+: malformed JSON" '{"film": {"width
 bad_scene "unknown field" "bad.json: film.widht: unknown field \(allowed: width, height" '{"film": {"widht": 10}}'
 bad_scene "wrong type" "bad.json: film.spp: expected a number in \[1, " '{"film": {"spp": "lots"}}'
 bad_scene "out of range" "bad.json: camera.fov: 0 is out of range \[0.01, 179\]" '{"camera": {"fov": 0}}'
-bad_scene "bad enum" "bad.json: lights\[0\].type: \"spot\" is not one of \"environment\", \"distant\", \"sphere\", \"quad\"" \
+bad_scene "bad enum" "bad.json: lights\[0\].type: \"spot\" is not one of \"environment\", \"sky\", \"distant\", \"sphere\", \"quad\"" \
     '{"lights": [{"type": "spot"}]}'
 bad_scene "missing mask file" "bad.json: materials.m.mask: .*nope.png" '{"materials": {"m": {"mask": "nope.png"}}}'
 bad_scene "missing mesh file" "bad.json: meshes.m.file: .*nope.ply" '{"meshes": {"m": {"file": "nope.ply"}}}'

@@ -724,13 +724,9 @@ static void estimators_agree(double barb_eccentricity, uint64_t seed)
         plm_instance in = {.mesh = plm_scene_add_mesh(&s, "vane", &mesh), .material = plm_scene_add_material(&s, &m),
                            .xform = plm_xform_identity(), .tint = rgb_gray(1.0)};
         assert_true(plm_scene_add_instance(&s, &in) >= 0);
-        plm_light sky, sun;
-        memset(&sky, 0, sizeof sky);
-        sky.type = PLM_LIGHT_CONSTANT_ENV;
+        plm_light sky = plm_light_default(PLM_LIGHT_CONSTANT_ENV), sun = plm_light_default(PLM_LIGHT_DISTANT);
         sky.radiance = rgb_make(0.3, 0.4, 0.6);
         plm_scene_add_light(&s, &sky);
-        memset(&sun, 0, sizeof sun);
-        sun.type = PLM_LIGHT_DISTANT;
         sun.direction = v3_normalize(v3(-0.6, 0.3, 0.75));
         sun.irradiance = rgb_gray(3.0);
         plm_scene_add_light(&s, &sun);

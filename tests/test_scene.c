@@ -101,7 +101,9 @@ static void includes_resolve_relative_paths(void **state)
                " \"camera\": {\"position\": [0, 0, 3], \"fov\": 30},\n"
                " \"film\": {\"width\": 64, \"height\": 32, \"spp\": 4, \"png\": \"out.png\"},\n"
                " \"lights\": [{\"type\": \"environment\", \"radiance\": [1, 2, 3]},\n"
-               "            {\"type\": \"distant\", \"direction\": [0, 2, 0], \"irradiance\": [3, 3, 3]}],\n"
+               "            {\"type\": \"distant\", \"direction\": [0, 2, 0], \"irradiance\": [3, 3, 3]},\n"
+               "            {\"type\": \"sky\", \"sun_elevation\": 30, \"sun_azimuth\": 120, \"turbidity\": 3,\n"
+               "             \"up\": [0, 0, 2], \"visible\": false, \"intensity\": 0.5, \"ground\": true}],\n"
                " \"objects\": [{\"mesh\": \"vane\", \"material\": \"vane\", \"tint\": [0.5, 0.5, 0.5],\n"
                "   \"tint_jitter\": 0.4, \"seed\": 3,\n"
                "   \"transform\": {\"translate\": [0, 0, 1]},\n"
@@ -117,9 +119,18 @@ static void includes_resolve_relative_paths(void **state)
         fail_msg("%s", err.message);
     assert_int_equal(s.mesh_count, 1);
     assert_int_equal(s.instance_count, 4);
-    assert_int_equal(s.light_count, 2);
+    assert_int_equal(s.light_count, 3);
     assert_int_equal(s.lights[0].type, PLM_LIGHT_CONSTANT_ENV);
+    assert_double_near(s.lights[0].intensity, 1.0, 0.0);
+    assert_true(s.lights[0].visible && !s.lights[0].ground);
     assert_double_near(s.lights[1].direction.y, 1.0, 1e-12);
+    const plm_light *sky = &s.lights[2];
+    assert_int_equal(sky->type, PLM_LIGHT_SKY);
+    assert_double_near(sky->sky.sun_azimuth, plm_radians(120.0), 1e-12);
+    assert_double_near(sky->sky.sun_size, plm_radians(0.53), 1e-12);
+    assert_double_near(sky->up.z, 1.0, 1e-12);
+    assert_double_near(sky->intensity, 0.5, 0.0);
+    assert_true(!sky->visible && sky->ground && sky->sky.sun);
     assert_true(s.camera.given);
     assert_double_near(s.camera.fov, 30.0, 0);
     assert_int_equal(s.film.width, 64);
@@ -236,8 +247,14 @@ static void errors_name_file_field_and_allowed_values(void **state)
                  (const char *const[]){"lights[0].type", "\"environment\"", "\"quad\"", NULL});
     expect_error("{\"lights\": [{\"radiance\": [1, 1, 1]}]}", (const char *const[]){"lights[0].type", "required", NULL});
     expect_error("{\"lights\": [{\"type\": \"sphere\", \"radius\": -1}]}", (const char *const[]){"lights[0].radius", NULL});
-    expect_error("{\"lights\": [{\"type\": \"environment\", \"file\": \"nowhere.exr\"}]}",
-                 (const char *const[]){"bad.json", "lights[0].file", "nowhere.exr", NULL});
+    expect_error("{\"lights\": [{\"type\": \"sky\", \"turbidity\": 20}]}",
+                 (const char *const[]){"bad.json", "lights[0].turbidity", "[1.7, 10]", NULL});
+    expect_error("{\"lights\": [{\"type\": \"sky\", \"map\": \"sky.exr\"}]}",
+                 (const char *const[]){"bad.json", "lights[0]", "map", NULL});
+    expect_error("{\"lights\": [{\"type\": \"environment\", \"up\": [0, 0, 0]}]}",
+                 (const char *const[]){"bad.json", "lights[0].up", "non-zero", NULL});
+    expect_error("{\"lights\": [{\"type\": \"environment\", \"map\": \"nowhere.exr\"}]}",
+                 (const char *const[]){"bad.json", "lights[0].map", "nowhere.exr", NULL});
     expect_error("{\"meshes\": {\"m\": {\"file\": \"missing.ply\"}}}",
                  (const char *const[]){"meshes.m.file", "missing.ply", NULL});
     expect_error("{\"meshes\": {\"m\": {\"shape\": \"torus\"}}}", (const char *const[]){"meshes.m.shape", "\"sphere\"", NULL});
