@@ -225,7 +225,8 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
             const char *suffix = o->kinds > 1 ? kind_name(o->kind[k]) : "";
             snprintf(png, sizeof png, "%s_%s%s%s.png", o->images, tag, *suffix ? "_" : "", suffix);
             snprintf(exr, sizeof exr, "%s_%s%s%s.exr", o->images, tag, *suffix ? "_" : "", suffix);
-            if (plm_film_write(&shaded[k], exr, png, 0.0, &err) != PLM_OK)
+            plm_picture picture = plm_picture_of(&scene.film);
+            if (plm_film_write(&shaded[k], exr, png, &picture, &err) != PLM_OK)
                 fprintf(stderr, "error: %s\n", err.message);
         }
     }

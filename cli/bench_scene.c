@@ -78,7 +78,8 @@ static void measure(const char *file, const char *text, const char *tag, const b
         if (o->images) { /* to look at what was measured */
             char path[4096];
             snprintf(path, sizeof path, "%s_%s.png", o->images, tag);
-            if (plm_film_write(&film, NULL, path, scene.film.exposure, &err) != PLM_OK)
+            plm_picture picture = plm_picture_of(&scene.film);
+            if (plm_film_write(&film, NULL, path, &picture, &err) != PLM_OK)
                 fprintf(stderr, "error: %s\n", err.message);
         }
         plm_film_free(&film);

@@ -75,7 +75,8 @@ static plm_result write_resolved(const plm_render_job *job, const plm_scene *sce
     cJSON *film = cJSON_GetObjectItemCaseSensitive(resolved, "film");
     if (!film)
         film = cJSON_AddObjectToObject(resolved, "film");
-    const char *const keys[] = {"width", "height", "spp", "seed", "max_depth", "exposure", "png", "exr", NULL};
+    const char *const keys[] = {"width", "height", "spp",           "seed", "max_depth", "exposure",
+                                "view",  "white_balance", "png", "exr",  NULL};
     for (int k = 0; film && keys[k]; ++k)
         cJSON_DeleteItemFromObjectCaseSensitive(film, keys[k]);
     const plm_film_desc *f = &scene->film;
@@ -84,7 +85,9 @@ static plm_result write_resolved(const plm_render_job *job, const plm_scene *sce
              cJSON_AddNumberToObject(film, "spp", job->spp > 0 ? job->spp : f->spp) &&
              cJSON_AddNumberToObject(film, "seed", job->seed >= 0 ? (double)job->seed : (double)f->seed) &&
              cJSON_AddNumberToObject(film, "max_depth", job->max_depth >= 0 ? job->max_depth : f->max_depth) &&
-             cJSON_AddNumberToObject(film, "exposure", job->exposure_given ? job->exposure : f->exposure);
+             cJSON_AddNumberToObject(film, "exposure", job->exposure_given ? job->exposure : f->exposure) &&
+             cJSON_AddStringToObject(film, "view", plm_view_names[job->view > 0 ? job->view - 1 : f->view]) &&
+             cJSON_AddNumberToObject(film, "white_balance", job->white_balance > 0 ? job->white_balance : f->white_balance);
     char *text = ok ? cJSON_Print(resolved) : NULL;
     if (!text)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory writing %s", job->resolved);
@@ -135,10 +138,16 @@ int plm_render_job_run(plm_render_job *job)
     }
     double t2 = plm_bench_seconds();
     int status = 0;
-    double exposure = job->exposure_given ? job->exposure : scene.film.exposure;
+    plm_picture picture = plm_picture_of(&scene.film);
+    if (job->exposure_given)
+        picture.exposure = job->exposure;
+    if (job->view > 0)
+        picture.view = (plm_view)(job->view - 1);
+    if (job->white_balance > 0.0)
+        picture.white_balance = job->white_balance;
     if (film.interrupted && job->discard_interrupted)
         job->png[0] = job->exr[0] = '\0';
-    else if (plm_film_write(&film, job->exr, job->png, exposure, &err) != PLM_OK)
+    else if (plm_film_write(&film, job->exr, job->png, &picture, &err) != PLM_OK)
         status = job_failed(job, &err);
     job->load_seconds = t1 - t0;
     job->render_seconds = t2 - t1;
@@ -170,8 +179,8 @@ int plm_render_job_run(plm_render_job *job)
 int cmd_render(int argc, char **argv)
 {
     static const char *const estimators[] = {"mis", "nee", "bsdf", NULL};
-    int spp = 0, threads = 0, seed = -1, max_depth = -1, quiet = 0, estimator = 0;
-    double exposure = 0.0;
+    int spp = 0, threads = 0, seed = -1, max_depth = -1, quiet = 0, estimator = 0, view = 0;
+    double exposure = 0.0, white_balance = 0.0;
     const char *png = NULL, *exr = NULL, *resolution = NULL;
     plm_opt_list sets = {{0}, 0};
     plm_option opts[] = {
@@ -190,6 +199,10 @@ int cmd_render(int argc, char **argv)
         {"--exr", PLM_OPT_STRING, &exr, 0, 0, 0, NULL, "FILE.exr",
          "linear EXR output (default: film.exr, else <scene name>.exr)", 0},
         {"--exposure", PLM_OPT_DOUBLE, &exposure, 0, -30, 30, NULL, "STOPS", "PNG exposure (default: film.exposure)", 0},
+        {"--view", PLM_OPT_CHOICE, &view, 0, 0, 0, plm_view_names, "NAME",
+         "PNG view transform: filmic or standard, a clamp (default: film.view)", 0},
+        {"--white-balance", PLM_OPT_DOUBLE, &white_balance, 0, 1500, 25000, NULL, "KELVIN",
+         "PNG: light of a blackbody this hot shows as white (default: film.white_balance)", 0},
         {"--estimator", PLM_OPT_CHOICE, &estimator, 0, 0, 0, estimators, "NAME",
          "mis (default), nee (light sampling only) or bsdf (BSDF sampling only): for validation", 0},
         {"--quiet", PLM_OPT_FLAG, &quiet, 0, 0, 0, NULL, NULL, "no progress bar", 0},
@@ -227,6 +240,8 @@ int cmd_render(int argc, char **argv)
     job.progress = !quiet;
     job.exposure_given = opts[8].seen;
     job.exposure = exposure;
+    job.view = opts[9].seen ? view + 1 : 0;
+    job.white_balance = white_balance;
     /* -o/--exr replace the scene's outputs: with -o alone, no EXR. */
     if (png || exr) {
         snprintf(job.png, sizeof job.png, "%s", png ? png : "");

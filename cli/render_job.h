@@ -19,6 +19,8 @@ typedef struct plm_render_job {
     int progress;
     int exposure_given;
     double exposure;
+    int view;             /* 0 = the scene's film.view, else a plm_view + 1 */
+    double white_balance; /* 0 = the scene's film.white_balance */
     char png[PLM_PATH_MAX], exr[PLM_PATH_MAX]; /* both "": the scene's film.png/exr (see plm_render_job_run) */
     volatile sig_atomic_t *cancel;
     int discard_interrupted; /* batch jobs: a cancelled render writes no image */

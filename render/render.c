@@ -255,13 +255,26 @@ void plm_film_free(plm_film *film)
     film->samples = NULL;
 }
 
-plm_result plm_film_write(const plm_film *film, const char *exr_path, const char *png_path, double exposure,
-                          plm_error *err)
+plm_picture plm_picture_of(const plm_film_desc *f)
+{
+    plm_picture p = {(plm_view)f->view, f->exposure, f->white_balance};
+    return p;
+}
+
+plm_result plm_film_write(const plm_film *film, const char *exr_path, const char *png_path,
+                          const plm_picture *picture, plm_error *err)
 {
     plm_result rc = PLM_OK;
     if (exr_path && exr_path[0])
         rc = plm_image_write(exr_path, film->width, film->height, 3, PLM_PIXEL_FLOAT, film->rgb, err);
-    if (rc == PLM_OK && png_path && png_path[0])
-        rc = plm_image_write_srgb_png(png_path, film->width, film->height, film->rgb, exposure, err);
+    if (rc != PLM_OK || !png_path || !png_path[0])
+        return rc;
+    size_t pixels = (size_t)film->width * film->height;
+    uint8_t *bytes = malloc(3 * pixels);
+    if (!bytes)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "%s: out of memory", png_path);
+    plm_picture_to_srgb8(picture, film->rgb, pixels, bytes);
+    rc = plm_image_write(png_path, film->width, film->height, 3, PLM_PIXEL_UINT8, bytes, err);
+    free(bytes);
     return rc;
 }

@@ -3,7 +3,8 @@
  *   plm_scene scene;  plm_scene_load("scene.json", &scene, &err);   // scene/scene_file.h
  *   plm_render_options opt = {0};            // zero = the scene's settings, all cores
  *   plm_film film;    plm_render(&scene, &opt, &film, &err);
- *   plm_film_write(&film, "out.exr", "out.png", scene.film.exposure, &err);
+ *   plm_picture pic = plm_picture_of(&scene.film);
+ *   plm_film_write(&film, "out.exr", "out.png", &pic, &err);
  *
  * Pixels are split into 16x16 tiles shared by the threads; samples are taken
  * in passes (1, 1, 2, 4, 8, 16, 16, ... per pixel). Each pixel sample draws
@@ -15,6 +16,7 @@
 
 #include <signal.h>
 
+#include "render/film.h"
 #include "render/integrator.h"
 #include "render/scene.h"
 #include "render/world.h"
@@ -49,8 +51,10 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
                             plm_error *err);
 void plm_film_free(plm_film *film);
 
-/* Writes the linear EXR and/or the tone-mapped sRGB PNG (NULL or "" = skip), each atomically. */
-plm_result plm_film_write(const plm_film *film, const char *exr_path, const char *png_path, double exposure,
-                          plm_error *err);
+/* The picture a scene's film block asks for (view, exposure, white balance). */
+plm_picture plm_picture_of(const plm_film_desc *f);
+/* Writes the linear EXR and/or the sRGB PNG through `picture` (NULL or "" = skip), each atomically. */
+plm_result plm_film_write(const plm_film *film, const char *exr_path, const char *png_path,
+                          const plm_picture *picture, plm_error *err);
 
 #endif

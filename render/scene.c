@@ -32,7 +32,9 @@ static const plm_param film_params[] = {
     {"max_depth", PLM_PARAM_INT, offsetof(plm_film_desc, max_depth), 0, 1024, "",
      "most scattering events per path", 0},
     {"exposure", PLM_PARAM_NUMBER, offsetof(plm_film_desc, exposure), -30.0, 30.0, "stops",
-     "PNG only: scale by 2^exposure before tone mapping", 0},
+     "PNG only: scale by 2^exposure before the view transform", 0},
+    {"white_balance", PLM_PARAM_NUMBER, offsetof(plm_film_desc, white_balance), 1500.0, 25000.0, "kelvin",
+     "PNG only: light of a blackbody this hot shows as white; 6504 changes nothing, lower is bluer", 0},
     {"far_field", PLM_PARAM_BOOL, offsetof(plm_film_desc, far_field), 0, 1, "",
      "shade feathers with the far-field model only, even where a pixel resolves barbs (docs/nearfield.md)", 0},
     {"fiber_table_mib", PLM_PARAM_INT, offsetof(plm_film_desc, fiber_table_mib), PLM_FIBER_TABLE_MIB_MIN,
@@ -40,7 +42,10 @@ static const plm_param film_params[] = {
      "memory of each fiber table (tabulated BCSDF): more is more accurate for elliptical fibers (docs/fiber.md)", 0},
 };
 const plm_param_block plm_film_param_block = {
-    "film", "the image; also \"exr\" and \"png\": output files (working directory)", film_params,
+    "film",
+    "the image; also \"view\": the PNG's view transform, \"filmic\" (default) or \"standard\" (a clamp; "
+    "docs/rendering.md), and \"exr\" and \"png\": output files (working directory)",
+    film_params,
     PLM_PARAM_COUNT(film_params)};
 
 static const plm_param feather_material_params[] = {
@@ -75,6 +80,7 @@ void plm_scene_init(plm_scene *scene)
     f->spp = 64;
     f->max_depth = 16;
     f->seed = 1;
+    f->white_balance = 6504.0;
     f->fiber_table_mib = PLM_FIBER_TABLE_MIB_DEFAULT;
 }
 

@@ -30,7 +30,9 @@ typedef struct plm_camera_desc {
 typedef struct plm_film_desc {
     int width, height, spp, max_depth;
     uint64_t seed;
-    double exposure;     /* PNG only: scale by 2^exposure before tone mapping */
+    double exposure;     /* PNG only: scale by 2^exposure before the view transform */
+    int view;            /* PNG only: a plm_view (render/film.h) */
+    double white_balance; /* PNG only: kelvin shown as white (render/film.h) */
     int far_field;       /* 1: feathers only in the far field, even where barbs are resolved (docs/nearfield.md) */
     int fiber_table_mib; /* memory of each tabulated fiber BCSDF's table (docs/fiber.md) */
     char exr[PLM_PATH_MAX]; /* "" = not written */

@@ -3,6 +3,8 @@
  * appendix A.1 (formulas and data as the paper gives them). */
 #include "render/sky.h"
 
+#include "render/colour.h"
+
 #include <math.h>
 
 /* Luminous efficacy of radiation at 555 nm, lm/W. */
@@ -28,28 +30,6 @@ static const double ozone_absorption[] = {
 _Static_assert(sizeof ozone_absorption == sizeof sun_spectrum, "one ozone coefficient per wavelength");
 #define OZONE_CM 0.35 /* the ozone layer's thickness the paper takes */
 
-/* One lobe of Wyman, Sloan and Shirley's (2013) fit to the CIE 1931
- * observer: a Gaussian with different widths on either side of its peak. */
-static double lobe(double lambda, double peak, double below, double above)
-{
-    double t = (lambda - peak) / (lambda < peak ? below : above);
-    return exp(-0.5 * t * t);
-}
-
-static void cie_observer(double lambda, double *x, double *y, double *z)
-{
-    *x = 1.056 * lobe(lambda, 599.8, 37.9, 31.0) + 0.362 * lobe(lambda, 442.0, 16.0, 26.7) -
-         0.065 * lobe(lambda, 501.1, 20.4, 26.2);
-    *y = 0.821 * lobe(lambda, 568.8, 46.9, 40.5) + 0.286 * lobe(lambda, 530.9, 16.3, 31.1);
-    *z = 1.217 * lobe(lambda, 437.0, 11.8, 36.0) + 0.681 * lobe(lambda, 459.0, 26.0, 13.8);
-}
-
-rgb plm_xyz_to_srgb(double x, double y, double z)
-{
-    return rgb_make(3.2404542 * x - 1.5371385 * y - 0.4985314 * z, -0.9692660 * x + 1.8760108 * y + 0.0415560 * z,
-                    0.0556434 * x - 0.2040259 * y + 1.0572252 * z);
-}
-
 /* Chromaticity outside sRGB's gamut (a low sun's deep colours) gives a
  * negative channel; light is never negative. */
 static rgb positive(rgb c) { return rgb_make(plm_positive(c.r), plm_positive(c.g), plm_positive(c.b)); }
@@ -68,7 +48,7 @@ rgb plm_sun_radiance(double turbidity, double sun_zenith)
         double ozone = exp(-ozone_absorption[i] * OZONE_CM * mass);
         double l = sun_spectrum[i] * SUN_SPECTRUM_UNIT * rayleigh * aerosol * ozone * 10.0; /* 10 nm bins */
         double cx, cy, cz;
-        cie_observer(nm, &cx, &cy, &cz);
+        plm_cie_observer(nm, &cx, &cy, &cz);
         x += cx * l, y += cy * l, z += cz * l;
     }
     return positive(plm_xyz_to_srgb(PLM_LUMINOUS_EFFICACY * x, PLM_LUMINOUS_EFFICACY * y,

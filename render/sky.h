@@ -45,7 +45,4 @@ rgb plm_sky_radiance(const plm_sky_model *m, vec3 d);
 double plm_sky_zenith_luminance(double turbidity, double sun_zenith);
 rgb plm_sun_radiance(double turbidity, double sun_zenith);
 
-/* CIE XYZ -> linear sRGB (D65). */
-rgb plm_xyz_to_srgb(double x, double y, double z);
-
 #endif

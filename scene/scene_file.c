@@ -12,6 +12,7 @@
 #include "common/rng.h"
 #include "optics/feather_bsdf.h"
 #include "optics/pigment.h"
+#include "render/film.h"
 #include "scene/feathers.h"
 #include "scene/layout_block.h"
 #include "texture/feather.h"
@@ -102,8 +103,10 @@ static plm_result read_camera(const plm_json_reader *r, const cJSON *obj, plm_ca
 
 static plm_result read_film(const plm_json_reader *r, const cJSON *obj, plm_film_desc *f)
 {
-    static const char *const outputs[] = {"exr", "png", NULL};
-    plm_result rc = plm_params_read(r, obj, "film", &plm_film_param_block, outputs, f);
+    static const char *const extra[] = {"view", "exr", "png", NULL};
+    plm_result rc = plm_params_read(r, obj, "film", &plm_film_param_block, extra, f);
+    if (rc == PLM_OK)
+        rc = plm_json_enum(r, obj, "film", "view", plm_view_names, f->view, &f->view);
     /* Outputs are relative to the working directory, not to the scene file:
      * rendering a preset must not write into the preset folder. */
     const char *exr = NULL, *png = NULL;

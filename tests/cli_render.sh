@@ -59,6 +59,19 @@ sed 's/"lights": \[/"lights": [{"type": "environment", "map": "sky.exr", "rotati
 expect_ok "environment map and thin lens" "$PLUMAGE" render envmap.json --quiet -o envmap.png
 expect_image "environment map and thin lens image" 40 30 envmap.png
 
+# The picture: the standard view is the clamp (an oiiotool conversion of the EXR, within one 8-bit step of
+# rounding), the filmic view another
+# picture of the same EXR; the white balance changes it.
+expect_ok "standard view" "$PLUMAGE" render ok.json --quiet --view standard -o std.png --exr std.exr
+oiiotool std.exr --clamp:min=0:max=1 --colorconvert linear sRGB -d uint8 -o clamp.png >/dev/null 2>&1
+idiff -q -fail 0.004 -failpercent 0 std.png clamp.png >/dev/null 2>&1 && pass "standard view is the clamp" \
+    || fail "standard view is the clamp"
+expect_ok "filmic view" "$PLUMAGE" render ok.json --quiet --view filmic -o filmic.png
+same_pixels std.png filmic.png && fail "filmic differs from standard" || pass "filmic differs from standard"
+expect_ok "white balance" "$PLUMAGE" render ok.json --quiet --white-balance 3200 -o wb.png
+same_pixels filmic.png wb.png && fail "white balance changes the picture" || pass "white balance changes the picture"
+expect_stderr "white balance range" "--white-balance.*1500" "$PLUMAGE" render ok.json --white-balance 100
+
 # The firefly count of a render, and its mean against another's (the same scene, another seed).
 expect_output "a uniform sky has no fireflies" "sky.exr: 32x16, fireflies .*: 0 of 512 pixels \(0.000%\)" \
     "$PLUMAGE" fireflies sky.exr
@@ -98,6 +111,7 @@ bad_scene "malformed JSON" "bad.json:1:[0-9]+: malformed JSON" '{"film": {"width
 bad_scene "unknown field" "bad.json: film.widht: unknown field \(allowed: width, height" '{"film": {"widht": 10}}'
 bad_scene "wrong type" "bad.json: film.spp: expected a number in \[1, " '{"film": {"spp": "lots"}}'
 bad_scene "out of range" "bad.json: camera.fov: 0 is out of range \[0.01, 179\]" '{"camera": {"fov": 0}}'
+bad_scene "unknown view" "bad.json: film.view: .*\"filmic\"" '{"film": {"view": "vivid"}}'
 bad_scene "bad enum" "bad.json: lights\[0\].type: \"spot\" is not one of \"environment\", \"sky\", \"distant\", \"sphere\", \"quad\"" \
     '{"lights": [{"type": "spot"}]}'
 bad_scene "missing mask file" "bad.json: materials.m.mask: .*nope.png" '{"materials": {"m": {"mask": "nope.png"}}}'
