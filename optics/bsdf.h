@@ -29,7 +29,7 @@ typedef struct plm_bsdf_ops {
     int (*sample)(const struct plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s);
 } plm_bsdf_ops;
 
-#define PLM_BSDF_STATE_BYTES 20480
+#define PLM_BSDF_STATE_BYTES 51200
 
 typedef struct plm_bsdf {
     const plm_bsdf_ops *ops;

@@ -87,6 +87,9 @@ void plm_feather_masking(const plm_feather_params *p, const frame *barb, const p
     plm_masking_eval_window(&p->masking_model, frame_to_local(barb, w), window, out);
 }
 
+/* Component index of the barb's visible range i. */
+static int barb_component(int i) { return i == 0 ? PLM_FEATHER_BARB : PLM_FEATHER_DISTAL + i; }
+
 void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
                                 rgb tint, plm_rng *rng, plm_feather_bsdf *out)
 {
@@ -94,41 +97,46 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
     out->tint = tint;
     plm_masking *m = &out->masking;
     *m = *masking;
-    out->fiber[PLM_FEATHER_BARB] = &p->barb;
-    out->fiber[PLM_FEATHER_PROXIMAL] = out->fiber[PLM_FEATHER_DISTAL] = &p->barbule;
     double opaque = 1.0 - m->w_transmission;
-    double w[3] = {m->w_barb, m->w_proximal, m->w_distal};
-    for (int k = 0; k < 3; ++k)
-        out->weight[k] = opaque > 1e-12 ? w[k] / opaque : 0.0;
-    /* A fiber's frame serves only a fiber with weight (eval and sampling skip
+    double scale = opaque > 1e-12 ? 1.0 / opaque : 0.0;
+    /* The barb is seen through up to six h-ranges of different rates, each a
+     * component of its own. (Choosing one range by its rate, a one-sample
+     * estimate of their sum, let the rare sliver at a barb's edge, whose
+     * grazing reflection of a light behind the feather is a hundred times
+     * the rest's, make the back-lit goose's fireflies.) */
+    plm_h_range whole = {-1.0, 1.0, m->w_barb};
+    int ranges = m->barb_range_count > 0 ? m->barb_range_count : 1;
+    const plm_h_range *range[PLM_FEATHER_COMPONENTS];
+    out->count = ranges + 2;
+    for (int i = 0; i < ranges; ++i) {
+        int k = barb_component(i);
+        range[k] = m->barb_range_count > 0 ? &m->barb[i] : &whole;
+        out->fiber[k] = &p->barb;
+        out->fiber_frame[k] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
+        out->weight[k] = range[k]->rate * scale;
+    }
+    range[PLM_FEATHER_PROXIMAL] = &m->proximal;
+    range[PLM_FEATHER_DISTAL] = &m->distal;
+    out->weight[PLM_FEATHER_PROXIMAL] = m->w_proximal * scale;
+    out->weight[PLM_FEATHER_DISTAL] = m->w_distal * scale;
+    /* A barbule frame serves only a set with weight (eval and sampling skip
      * the others), and most views see one barbule set or none. */
     const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
-    out->fiber_frame[PLM_FEATHER_BARB] = *barb; /* x = b = e2, y = n = e3, z = t = axis */
-    for (int k = 0; k < 2; ++k) {
-        if (!(out->weight[1 + k] > 0.0))
+    for (int j = 0; j < 2; ++j) {
+        int k = PLM_FEATHER_PROXIMAL + j;
+        out->fiber[k] = &p->barbule;
+        if (!(out->weight[k] > 0.0))
             continue;
-        frame *f = &out->fiber_frame[1 + k];
-        f->x = frame_to_world(barb, bb[k]->e2);
-        f->y = frame_to_world(barb, bb[k]->e3);
-        f->z = frame_to_world(barb, bb[k]->axis);
+        frame *f = &out->fiber_frame[k];
+        f->x = frame_to_world(barb, bb[j]->e2);
+        f->y = frame_to_world(barb, bb[j]->e3);
+        f->z = frame_to_world(barb, bb[j]->axis);
     }
-
-    /* The barb is seen through up to six h-ranges of different rates: one
-     * range, chosen by rate, is a one-sample estimate of their weighted sum. */
-    plm_h_range barb_range = {-1.0, 1.0, 0.0};
-    double u = plm_rng_uniform(rng) * m->w_barb;
-    for (int i = 0; i < m->barb_range_count; ++i) {
-        barb_range = m->barb[i];
-        if (u < m->barb[i].rate)
-            break;
-        u -= m->barb[i].rate;
-    }
-    const plm_h_range *range[3] = {&barb_range, &m->proximal, &m->distal};
-    const plm_fiber_table *table[3] = {p->table[0], p->table[1], p->table[1]};
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < out->count; ++k) {
         out->bcsdf[k].total = 0.0;
+        const plm_fiber_table *table = p->table[out->fiber[k] == &p->barb ? 0 : 1];
         if (out->weight[k] > 0.0)
-            plm_fiber_bcsdf_prepare(out->fiber[k], p->bcsdf == PLM_BCSDF_TABULATED ? table[k] : NULL,
+            plm_fiber_bcsdf_prepare(out->fiber[k], p->bcsdf == PLM_BCSDF_TABULATED ? table : NULL,
                                     frame_to_local(&out->fiber_frame[k], wo), range[k]->hmin, range[k]->hmax, rng,
                                     &out->bcsdf[k]);
     }
@@ -136,9 +144,9 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
      * times its fiber's energy for wo: the sampled direction's weight, fiber
      * k's own, then varies little with the choice (plm_feather_sample). */
     double total = 0.0;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < out->count; ++k)
         total += out->pick[k] = out->bcsdf[k].total > 0.0 ? out->weight[k] * out->bcsdf[k].total : 0.0;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < out->count; ++k)
         out->pick[k] = total > 0.0 ? out->pick[k] / total : 0.0;
 }
 
@@ -165,7 +173,7 @@ static rgb fiber_term(const plm_feather_bsdf *f, int k, vec3 wi, double *q)
 rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi)
 {
     rgb sum = rgb_gray(0.0);
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < f->count; ++k)
         if (f->pick[k] > 0.0)
             sum = rgb_add(sum, fiber_term(f, k, wi, NULL));
     return rgb_mul(sum, f->tint);
@@ -174,7 +182,7 @@ rgb plm_feather_eval(const plm_feather_bsdf *f, vec3 wi)
 rgb plm_feather_eval_mis(const plm_feather_bsdf *f, vec3 wi, double light_pdf)
 {
     rgb sum = rgb_gray(0.0);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < f->count; ++k) {
         if (!(f->pick[k] > 0.0))
             continue;
         double qk;
@@ -187,7 +195,7 @@ rgb plm_feather_eval_mis(const plm_feather_bsdf *f, vec3 wi, double light_pdf)
 double plm_feather_pdf(const plm_feather_bsdf *f, vec3 wi)
 {
     double pdf = 0.0;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < f->count; ++k)
         if (f->pick[k] > 0.0)
             pdf += f->pick[k] * plm_fiber_bcsdf_pdf(&f->bcsdf[k], frame_to_local(&f->fiber_frame[k], wi));
     return pdf;
@@ -197,7 +205,7 @@ int plm_feather_pick(const plm_feather_bsdf *f, double u, double *remapped)
 {
     const double *w = f->pick;
     int k = 0;
-    while (k < 2 && (u >= w[k] || w[k] == 0.0)) {
+    while (k < f->count - 1 && (u >= w[k] || w[k] == 0.0)) {
         u -= w[k];
         ++k;
     }

@@ -6,7 +6,8 @@
  * With the fiber foreshortening G = cos(theta_i) of each fiber and the
  * |wi.n|^-1 of Eq. 4, the cosine-weighted BSDF is
  *   f_s |wi.n| = sum_k w_k(wo) S_k(wi) cos(theta_i,k)        (k = barb, proximal, distal)
- * where S_k is plm_fiber_eval in fiber k's frame. The renderer takes w_t as
+ * where S_k is plm_fiber_eval in fiber k's frame; the barb's term is a sum
+ * over the h-ranges the masking leaves visible, each weighted by its rate. The renderer takes w_t as
  * fractional visibility (render/material.h) and the rest divided by (1 - w_t).
  * Sampling chooses component k by the light it sends back, w_k times its
  * fiber's energy for wo, and evaluates only fiber k at the sampled direction
@@ -58,18 +59,24 @@ void plm_feather_params_free_tables(plm_feather_params *p);
  * points to the tip (b . dP/dv > 0). Returns 0 if the tangents are degenerate. */
 int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, frame *out);
 
+/* Components: the barb over its first visible h-range, the proximal and
+ * the distal barbules, then the barb over each further range. */
 enum { PLM_FEATHER_BARB = 0, PLM_FEATHER_PROXIMAL = 1, PLM_FEATHER_DISTAL = 2 };
+#define PLM_FEATHER_COMPONENTS (PLM_MASKING_MAX_BARB_RANGES + 2)
 
-/* The BSDF prepared for one view direction wo: the masking, the three fiber
- * frames in world space and a prepared BCSDF per fiber. */
+/* The BSDF prepared for one view direction wo: the masking, the fiber
+ * frames in world space and a prepared BCSDF per component. */
 typedef struct plm_feather_bsdf {
     const plm_feather_params *params;
-    frame fiber_frame[3];      /* x = e2, y = e3, z = fiber axis, in world space; set where weight > 0 */
-    const plm_fiber_params *fiber[3];
-    double weight[3];          /* w_k / (1 - w_t): the components' share of the light that does not pass */
-    double pick[3];            /* sampling probabilities: weight x energy (bcsdf[k].total), normalised */
+    int count;                 /* components: 3 + the barb's visible ranges beyond the first */
+    frame fiber_frame[PLM_FEATHER_COMPONENTS]; /* x = e2, y = e3, z = fiber axis, in world space; set where
+                                                  weight > 0 */
+    const plm_fiber_params *fiber[PLM_FEATHER_COMPONENTS];
+    double weight[PLM_FEATHER_COMPONENTS]; /* w_k / (1 - w_t): the components' share of the light that does not
+                                              pass (a barb range's: its rate) */
+    double pick[PLM_FEATHER_COMPONENTS];   /* sampling probabilities: weight x energy (bcsdf[k].total), normalised */
     plm_masking masking;       /* for wo, in the barb frame */
-    plm_fiber_bcsdf bcsdf[3];
+    plm_fiber_bcsdf bcsdf[PLM_FEATHER_COMPONENTS];
     rgb tint;
 } plm_feather_bsdf;
 
@@ -79,8 +86,9 @@ typedef struct plm_feather_bsdf {
 void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
                          plm_masking *out);
 /* Prepares for wo (world space) given its masking (plm_feather_masking): a
- * BCSDF per fiber over its visible h-range (the barb's chosen among the
- * masking's ranges by their rates with rng). */
+ * BCSDF per fiber over its visible h-range, and one for the barb over each
+ * of its visible ranges, weighted by the range's rate (rng drives only the
+ * stochastic estimator's lobe sets). */
 void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
                                 rgb tint, plm_rng *rng, plm_feather_bsdf *out);
 

@@ -79,7 +79,7 @@ static double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, d
     plm_material_bsdf(hit, wo, rng, &b);
     const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
     double lobe_energy = 0.0;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < f->count; ++k)
         lobe_energy += f->weight[k] * f->bcsdf[k].total; /* the mean over RGB of each fiber's lobe energy */
     double integral, se;
     integrate_eval(&b, rng, n, &integral, &se);
@@ -111,7 +111,7 @@ static void check_sample(const plm_bsdf *b, double u0, const plm_bsdf_sample_rec
 {
     const plm_feather_bsdf *fb = (const plm_feather_bsdf *)b->state;
     double pdf = plm_bsdf_pdf(b, rec->wi), mix = 0.0, unused;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < fb->count; ++k)
         if (fb->pick[k] > 0.0)
             mix += fb->pick[k] * plm_fiber_bcsdf_pdf(&fb->bcsdf[k], frame_to_local(&fb->fiber_frame[k], rec->wi));
     assert_double_near(mix, pdf, 1e-12 * pdf);
