@@ -57,8 +57,6 @@ int cmd_params(int argc, char **argv)
     static const plm_pigments pigments;
     plm_species species;
     plm_species_default(&species);
-    plm_split_draw draw;
-    plm_split_draw_default(&draw);
     const plm_split split = {0.5, 0.3, 0};
     const plm_shape *shape = &species.shape;
     const block_entry blocks[] = {
@@ -82,7 +80,8 @@ int cmd_params(int argc, char **argv)
         {"species", &plm_vane_param_block, 1, {""}, {shape}},
         {"species", &plm_vane_tip_param_block, 1, {""}, {shape}},
         {"species", &plm_barbs_param_block, 1, {""}, {shape}},
-        {"species", &plm_splits_param_block, 1, {""}, {&draw}},
+        {"species", &plm_emargination_param_block[0], 1, {""}, {&shape->emargination[0]}},
+        {"species", &plm_splits_param_block, 1, {""}, {shape}},
         {"species", &plm_split_param_block, 1, {""}, {&split}},
         {"species", &plm_pigment_param_block, 1, {""}, {&species.pigment}},
     };

@@ -47,7 +47,9 @@ void plm_species_variant(const plm_species *base, int variant, uint64_t seed, pl
         s.barb_angle_base[side] += angle;
         s.barb_angle_tip[side] += angle;
     }
-    /* Splits move along the vane and change depth; they stay in the pennaceous part. */
+    /* Its own draws (drawn splits, barb ends, fray) from a seed of its own. */
+    s.seed = plm_hash64(seed, (uint64_t)variant, base->shape.seed) & 0x7fffffffu;
+    /* Listed splits move along the vane and change depth; they stay in the pennaceous part. */
     for (int i = 0; i < s.split_count; ++i) {
         plm_split *sp = &s.splits[i];
         double lo = s.plumulaceous + 0.02;

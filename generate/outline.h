@@ -29,6 +29,9 @@
 #define PLM_VANE_COLUMNS 8
 #define PLM_VANE_ROWS 24
 
+/* Barb spacings over which a barb narrows to its tip at its end. */
+#define PLM_BARB_TAPER 1.5
+
 typedef enum plm_flat_region {
     PLM_FLAT_BACKGROUND = 0,
     PLM_FLAT_RACHIS = 1,
@@ -36,12 +39,14 @@ typedef enum plm_flat_region {
 } plm_flat_region;
 
 typedef struct plm_outline {
-    plm_shape shape;
+    plm_shape shape;       /* the species' shape, with this feather's drawn splits added to its list */
     double vane_base;      /* y0: where the vanes start (mm) */
     double vane_length;    /* Lv (mm) */
     double rachis_end;     /* y where the rachis ends (the notch bottom for notched tips) */
     double widest[2];      /* W per side (mm) */
     double half_extent;    /* U: the vane mesh spans |x| <= U (mm) */
+    double spacing;        /* mm between neighbouring barbs along the rachis */
+    double fray_length;    /* mm below the tip over which barbs part */
     double slope[2][PLM_WIDTH_POINTS_MAX]; /* monotone cubic tangents of each width profile */
 } plm_outline;
 
@@ -77,6 +82,7 @@ plm_flat_sample plm_outline_sample(const plm_outline *o, double x, double y);
  * texture rescales it to uv units and normalises once). */
 typedef struct plm_outline_row {
     double y, t;               /* flat height and vane position */
+    double cover, inset_scale; /* the fray: share of its spacing a barb covers; how much its end jitter grows */
     double r, dr;              /* rachis half-width and its slope */
     double width[2], notch[2]; /* outer and (notched tips) inner vane edge per side */
     double theta[2], dtheta[2], sin_t[2], cot_t[2], log_sin_t[2], inv_sin2_t[2]; /* barb angle at the rachis */

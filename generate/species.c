@@ -11,37 +11,6 @@
 #include "common/vec.h"
 #include "generate/outline.h"
 
-void plm_species_default(plm_species *s)
-{
-    memset(s, 0, sizeof *s);
-    snprintf(s->name, sizeof s->name, "%s", "default");
-    plm_shape *sh = &s->shape;
-    sh->length = 60.0;
-    sh->calamus_length = 8.0;
-    sh->rachis_base_width = 1.2;
-    sh->rachis_tip_width = 0.2;
-    sh->rachis_taper = 1.0;
-    sh->bend_out_of_plane = plm_radians(5.0);
-    static const double t[4] = {0.0, 0.4, 0.8, 1.0}, w[4] = {9.0, 11.0, 9.0, 6.0};
-    for (int side = 0; side < 2; ++side) {
-        sh->width[side].count = 4;
-        memcpy(sh->width[side].t, t, sizeof t);
-        memcpy(sh->width[side].width, w, sizeof w);
-    }
-    sh->curl = plm_radians(5.0);
-    sh->tip_shape = PLM_TIP_ROUNDED;
-    sh->tip_length = 0.25;
-    sh->barb_angle_base[0] = sh->barb_angle_base[1] = plm_radians(50.0);
-    sh->barb_angle_tip[0] = sh->barb_angle_tip[1] = plm_radians(35.0);
-    sh->barb_curvature = plm_radians(10.0);
-    sh->barb_density = 25.0;
-    sh->plumulaceous = 0.25;
-    sh->split_gap = 0.8;
-    s->pigment.band_width = 0.5;
-    s->pigment.tip_length = 0.15;
-    s->pigment.barb_jitter = 0.3;
-}
-
 /* The parameter tables of the species file's blocks (common/params.h): one
  * range per field, read by the parser, by `plumage params` and, through it,
  * by docs/species.md. Relations between fields that a single range cannot
@@ -55,6 +24,8 @@ static const plm_param shape_params[] = {
                 "bare base before the vanes; below 90% of length"),
     SHAPE_FIELD("plumulaceous", plumulaceous, 0.0, 0.95, "fraction of the vaned length",
                 "downy (fluffy) base: barbs leaving the rachis here are loose strands"),
+    {"seed", PLM_PARAM_SEED, offsetof(plm_shape, seed), 0.0, 2147483647.0, "",
+     "this feather's own draws: its splits, barb ends and tip fray", 0},
 };
 const plm_param_block plm_shape_param_block = {"shape", "the feather's size (also rachis, vane, barbs, splits)",
                                                shape_params, PLM_PARAM_COUNT(shape_params)};
@@ -77,11 +48,13 @@ const plm_param_block plm_vane_param_block = {"shape.vane", "the vanes (also lef
                                               vane_params, PLM_PARAM_COUNT(vane_params)};
 
 /* shape.vane.tip's "shape" is one of these names (read beside the table). */
-static const char *const tip_shapes[] = {"rounded", "pointed", "notched", NULL};
+static const char *const tip_shapes[] = {"rounded", "pointed", "notched", "truncate", "square", NULL};
 static const plm_param tip_params[] = {
     SHAPE_FIELD("length", tip_length, 0.01, 0.9, "fraction of the vaned length", "where the closing starts"),
 };
-const plm_param_block plm_vane_tip_param_block = {"shape.vane.tip", "the vane's tip (also shape: rounded, pointed, notched)",
+const plm_param_block plm_vane_tip_param_block = {"shape.vane.tip",
+                                                  "the vane's tip (also shape: rounded, pointed, notched, truncate, "
+                                                  "square)",
                                                   tip_params, PLM_PARAM_COUNT(tip_params)};
 
 /* The first two rows also serve shape.barbs.left and .right, read into
@@ -93,6 +66,9 @@ static const plm_param barbs_params[] = {
     SHAPE_ANGLE("curvature", barb_curvature, -45.0, 80.0,
                 "turn of a barb toward the tip between rachis and vane edge; below the smallest angle minus 2"),
     SHAPE_FIELD("density", barb_density, 1.0, 200.0, "per cm", "barbs per cm along the rachis, per side"),
+    SHAPE_FIELD("end_jitter", barb_end_jitter, 0.0, 20.0, "barb spacings",
+                "a barb ends up to this much short of the outline: the ragged edge"),
+    SHAPE_FIELD("fray", barb_fray, 0.0, 50.0, "barb spacings", "below the tip, barbs part over this distance"),
 };
 const plm_param_block plm_barbs_param_block = {"shape.barbs", "barb angles, curvature and density (also left, right)",
                                                barbs_params, PLM_PARAM_COUNT(barbs_params)};
@@ -100,18 +76,29 @@ const plm_param_block plm_barb_side_param_block = {"shape.barbs.left", "one vane
                                                    barbs_params, 2};
 
 static const plm_param splits_params[] = {
-    {"count", PLM_PARAM_INT, offsetof(plm_split_draw, count), 0.0, PLM_SPLITS_MAX, "",
-     "splits drawn from the seed (instead of a list)", 0},
-    {"seed", PLM_PARAM_SEED, offsetof(plm_split_draw, seed), 0.0, 2147483647.0, "", "draws positions, depths, sides",
-     0},
-    {"positions", PLM_PARAM_PAIR, offsetof(plm_split_draw, positions), 0.0, 1.0, "fraction of the vaned length",
+    {"frequency", PLM_PARAM_NUMBER, offsetof(plm_shape, split_frequency), 0.0, 16.0, "per vane",
+     "mean splits per vane, drawn for each feather from shape.seed; 0 with a list", 0},
+    {"positions", PLM_PARAM_PAIR, offsetof(plm_shape, split_positions), 0.0, 1.0, "fraction of the vaned length",
      "[min, max] of the drawn positions", 0},
-    {"depths", PLM_PARAM_PAIR, offsetof(plm_split_draw, depths), 0.0, 1.0, "fraction of the vane width",
+    {"depths", PLM_PARAM_PAIR, offsetof(plm_shape, split_depths), 0.0, 1.0, "fraction of the vane width",
      "[min, max] of the drawn depths", PLM_PARAM_OPEN_MIN},
-    {"gap", PLM_PARAM_NUMBER, offsetof(plm_split_draw, gap), 0.0, 20.0, "mm", "split width at the vane edge", 0},
+    {"gap", PLM_PARAM_NUMBER, offsetof(plm_shape, split_gap), 0.0, 20.0, "mm", "split width at the vane edge", 0},
 };
 const plm_param_block plm_splits_param_block = {"shape.splits", "gaps between barbs (also list)", splits_params,
                                                 PLM_PARAM_COUNT(splits_params)};
+
+static const plm_param emargination_params[] = {
+    {"position", PLM_PARAM_NUMBER, offsetof(plm_emargination, position), 0.0, 1.0, "fraction of the vaned length",
+     "centre of the narrowing", 0},
+    {"depth", PLM_PARAM_NUMBER, offsetof(plm_emargination, depth), 0.0, 0.9, "fraction of the width",
+     "how much narrower the vane is beyond it; 0 none", 0},
+    {"length", PLM_PARAM_NUMBER, offsetof(plm_emargination, length), 0.01, 0.5, "fraction of the vaned length",
+     "over which it narrows", 0},
+};
+const plm_param_block plm_emargination_param_block[2] = {
+    {"shape.vane.left.emargination", "a step in one vane's width (also right): emarginated primaries",
+     emargination_params, PLM_PARAM_COUNT(emargination_params)},
+    {"shape.vane.right.emargination", "the right vane's", emargination_params, PLM_PARAM_COUNT(emargination_params)}};
 
 static const char *const sides[] = {"left", "right", NULL};
 static const plm_param split_params[] = {
@@ -137,11 +124,6 @@ static const plm_param pigment_params[] = {
 };
 const plm_param_block plm_pigment_param_block = {"pigment", "pigment variation: bands, tip, per-barb", pigment_params,
                                                  PLM_PARAM_COUNT(pigment_params)};
-
-void plm_split_draw_default(plm_split_draw *d)
-{
-    *d = (plm_split_draw){0, 1, {0.3, 0.9}, {0.2, 0.6}, 0.8};
-}
 
 #define TRY(expr)                                                                                            \
     do {                                                                                                     \
@@ -177,15 +159,20 @@ static plm_result fail(const species_reader *r, const char *path, const char *ke
     return plm_json_fail(&r->json, at(r, path, full, sizeof full), key, "%s", msg);
 }
 
-/* "width": [[t, mm], ...] with t strictly increasing from 0 to 1. */
-static plm_result parse_width(const species_reader *sr, const cJSON *obj, const char *side_path,
-                              plm_width_profile *w)
+/* "width": [[t, mm], ...] with t strictly increasing from 0 to 1, and an
+ * optional "emargination" block. */
+static plm_result parse_width(const species_reader *sr, const cJSON *obj, int side, plm_width_profile *w,
+                              plm_emargination *e)
 {
-    static const char *const keys[] = {"width", NULL};
+    static const char *const keys[] = {"width", "emargination", NULL};
     char path[PLM_SPECIES_PATH_MAX];
     const plm_json_reader *r = &sr->json;
-    at(sr, side_path, path, sizeof path);
+    const plm_param_block *em_block = &plm_emargination_param_block[side];
+    at(sr, side ? "shape.vane.right" : "shape.vane.left", path, sizeof path);
     TRY(plm_json_check_object(r, obj, path, keys));
+    const cJSON *em = cJSON_GetObjectItemCaseSensitive(obj, "emargination");
+    if (em)
+        TRY(read_block(sr, em, em_block->name, em_block, NULL, e));
     const cJSON *arr = cJSON_GetObjectItemCaseSensitive(obj, "width");
     if (!arr)
         return PLM_OK;
@@ -223,7 +210,7 @@ static plm_result parse_vane(const species_reader *r, const cJSON *obj, plm_shap
                             cJSON_GetObjectItemCaseSensitive(obj, "right")};
     for (int k = 0; k < 2; ++k)
         if (side[k])
-            TRY(parse_width(r, side[k], k ? "shape.vane.right" : "shape.vane.left", &sh->width[k]));
+            TRY(parse_width(r, side[k], k, &sh->width[k], &sh->emargination[k]));
     static const char *const tip_extra[] = {"shape", NULL};
     const cJSON *tip = cJSON_GetObjectItemCaseSensitive(obj, "tip");
     if (!tip)
@@ -260,54 +247,43 @@ static plm_result parse_barbs(const species_reader *r, const cJSON *obj, plm_sha
     return PLM_OK;
 }
 
-/* Splits either listed one by one or drawn from a seed:
+/* Splits either listed one by one or drawn per feather (plm_outline_init):
  *   "splits": {"list": [{"position": 0.5, "depth": 0.4, "side": "left"}], "gap": 0.8}
- *   "splits": {"count": 3, "seed": 7, "positions": [0.3, 0.9], "depths": [0.2, 0.6], "gap": 0.8} */
+ *   "splits": {"frequency": 2, "positions": [0.3, 0.9], "depths": [0.2, 0.6], "gap": 0.8} */
 static plm_result parse_splits(const species_reader *r, const cJSON *obj, plm_shape *sh)
 {
-    static const char *const extra[] = {"list", NULL};
-    plm_split_draw d;
-    plm_split_draw_default(&d);
-    d.gap = sh->split_gap;
-    TRY(read_block(r, obj, "shape.splits", &plm_splits_param_block, extra, &d));
-    sh->split_gap = d.gap;
+    static const char *const extra[] = {"list", "count", "seed", NULL};
+    /* The draw moved from the species to each feather: say where. */
+    if (cJSON_GetObjectItemCaseSensitive(obj, "count"))
+        return fail(r, "shape.splits", "count", "splits are drawn per feather now: give \"frequency\" (mean "
+                    "splits per vane, 0-16) or a \"list\"");
+    if (cJSON_GetObjectItemCaseSensitive(obj, "seed"))
+        return fail(r, "shape.splits", "seed", "the feather's draws share one seed: give shape.seed");
+    TRY(read_block(r, obj, "shape.splits", &plm_splits_param_block, extra, sh));
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(obj, "list");
-    if (list) {
-        int n = cJSON_GetArraySize(list);
-        if (!cJSON_IsArray(list) || n > PLM_SPLITS_MAX) {
-            char msg[64];
-            snprintf(msg, sizeof msg, "expected an array of at most %d splits", PLM_SPLITS_MAX);
-            return fail(r, "shape.splits", "list", msg);
-        }
-        if (cJSON_GetObjectItemCaseSensitive(obj, "count"))
-            return fail(r, "shape.splits", "count", "give either \"list\" or \"count\", not both");
-        for (int i = 0; i < n; ++i) {
-            char path[64];
-            snprintf(path, sizeof path, "shape.splits.list[%d]", i);
-            static const char *const extra_side[] = {"side", NULL};
-            const cJSON *item = cJSON_GetArrayItem(list, i);
-            plm_split *s = &sh->splits[i];
-            char full[PLM_SPECIES_PATH_MAX];
-            *s = (plm_split){0.5, 0.3, i % 2};
-            TRY(read_block(r, item, path, &plm_split_param_block, extra_side, s));
-            TRY(plm_json_enum(&r->json, item, at(r, path, full, sizeof full), "side", sides, i % 2, &s->side));
-        }
-        sh->split_count = n;
+    if (!list)
         return PLM_OK;
+    int n = cJSON_GetArraySize(list);
+    if (!cJSON_IsArray(list) || n > PLM_SPLITS_MAX) {
+        char msg[64];
+        snprintf(msg, sizeof msg, "expected an array of at most %d splits", PLM_SPLITS_MAX);
+        return fail(r, "shape.splits", "list", msg);
     }
-    if (!(d.positions[0] <= d.positions[1]))
-        return fail(r, "shape.splits", "positions", "expected [min, max] with min <= max");
-    if (!(d.depths[0] <= d.depths[1]))
-        return fail(r, "shape.splits", "depths", "expected [min, max] with min <= max");
-    plm_rng rng;
-    plm_rng_seed(&rng, d.seed, 0x5711u);
-    for (int i = 0; i < d.count; ++i) {
+    if (cJSON_GetObjectItemCaseSensitive(obj, "frequency"))
+        return fail(r, "shape.splits", "frequency", "give either \"list\" or \"frequency\", not both");
+    for (int i = 0; i < n; ++i) {
+        char path[64];
+        snprintf(path, sizeof path, "shape.splits.list[%d]", i);
+        static const char *const extra_side[] = {"side", NULL};
+        const cJSON *item = cJSON_GetArrayItem(list, i);
         plm_split *s = &sh->splits[i];
-        s->position = d.positions[0] + (d.positions[1] - d.positions[0]) * plm_rng_uniform(&rng);
-        s->depth = d.depths[0] + (d.depths[1] - d.depths[0]) * plm_rng_uniform(&rng);
-        s->side = plm_rng_uniform(&rng) < 0.5 ? 0 : 1;
+        char full[PLM_SPECIES_PATH_MAX];
+        *s = (plm_split){0.5, 0.3, i % 2};
+        TRY(read_block(r, item, path, &plm_split_param_block, extra_side, s));
+        TRY(plm_json_enum(&r->json, item, at(r, path, full, sizeof full), "side", sides, i % 2, &s->side));
     }
-    sh->split_count = d.count;
+    sh->split_count = n;
+    sh->split_frequency = 0.0; /* a list replaces the type's draw */
     return PLM_OK;
 }
 
@@ -327,18 +303,44 @@ static plm_result parse_shape(const species_reader *r, const cJSON *obj, plm_sha
     return PLM_OK;
 }
 
+/* The type's sizes are at its own length: a species of another length that
+ * does not give them gets them scaled (widths, calamus, rachis). */
+static void scale_sizes_not_given(const cJSON *shape, double type_length, plm_shape *sh)
+{
+    double k = sh->length / type_length;
+    const cJSON *rachis = cJSON_GetObjectItemCaseSensitive(shape, "rachis");
+    const cJSON *vane = cJSON_GetObjectItemCaseSensitive(shape, "vane");
+    if (!cJSON_GetObjectItemCaseSensitive(shape, "calamus_length"))
+        sh->calamus_length *= k;
+    if (!cJSON_GetObjectItemCaseSensitive(rachis, "base_width"))
+        sh->rachis_base_width *= k;
+    if (!cJSON_GetObjectItemCaseSensitive(rachis, "tip_width"))
+        sh->rachis_tip_width *= k;
+    for (int side = 0; side < 2; ++side)
+        if (!cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(vane, side ? "right" : "left"),
+                                              "width"))
+            for (int i = 0; i < sh->width[side].count; ++i)
+                sh->width[side].width[i] *= k;
+}
+
 static plm_result parse_species(const species_reader *r, const cJSON *root, plm_species *out)
 {
-    static const char *const keys[] = {"name", "description", "source", "shape", "pigment", "optics", NULL};
+    static const char *const keys[] = {"name", "type", "description", "source", "shape", "pigment", "optics", NULL};
     char path[PLM_SPECIES_PATH_MAX];
     at(r, "", path, sizeof path);
     TRY(plm_json_check_object(&r->json, root, path, keys));
+    int type = PLM_TYPE_CONTOUR;
+    TRY(plm_json_enum(&r->json, root, path, "type", plm_feather_type_names, type, &type));
+    plm_species_default_of_type(out, (plm_feather_type)type);
+    double type_length = out->shape.length;
     const char *name = NULL;
     TRY(plm_json_string(&r->json, root, path, "name", "unnamed", &name));
     snprintf(out->name, sizeof out->name, "%s", name);
     const cJSON *sub;
-    if ((sub = cJSON_GetObjectItemCaseSensitive(root, "shape")))
+    if ((sub = cJSON_GetObjectItemCaseSensitive(root, "shape"))) {
         TRY(parse_shape(r, sub, &out->shape));
+        scale_sizes_not_given(sub, type_length, &out->shape);
+    }
     if ((sub = cJSON_GetObjectItemCaseSensitive(root, "pigment")))
         TRY(read_block(r, sub, "pigment", &plm_pigment_param_block, NULL, &out->pigment));
     /* The optics block is the renderer's: scene/ reads it from the same object. */
@@ -399,6 +401,9 @@ static plm_result check_ranges(const species_reader *r, const plm_species *s)
                   {&plm_vane_tip_param_block, sh},
                   {&plm_barbs_param_block, sh},
                   {&plm_barb_side_param_block, (const char *)sh + sizeof(double)},
+                  {&plm_splits_param_block, sh},
+                  {&plm_emargination_param_block[0], &sh->emargination[0]},
+                  {&plm_emargination_param_block[1], &sh->emargination[1]},
                   {&plm_pigment_param_block, &s->pigment}};
     char path[PLM_SPECIES_PATH_MAX];
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; ++i)
@@ -442,6 +447,18 @@ plm_result plm_species_validate_at(const plm_species *s, const char *file, const
         return plm_json_fail(r, at(&sr, "shape.barbs", path, sizeof path), "curvature", "%g degrees would turn "
                              "barbs back toward the rachis: it must stay below the smallest barb angle minus 2 (%g "
                              "degrees)", plm_degrees(sh->barb_curvature), plm_degrees(lo) - 2.0);
+    if (sh->split_frequency > 0.0) {
+        at(&sr, "shape.splits", path, sizeof path);
+        if (!(sh->split_positions[0] <= sh->split_positions[1]))
+            return plm_json_fail(r, path, "positions", "expected [min, max] with min <= max");
+        if (!(sh->split_depths[0] <= sh->split_depths[1]))
+            return plm_json_fail(r, path, "depths", "expected [min, max] with min <= max");
+        if (!(sh->split_positions[1] > sh->plumulaceous))
+            return plm_json_fail(r, path, "positions", "the drawn splits lie in the downy base: the max (%g) must "
+                                 "exceed shape.plumulaceous (%g)", sh->split_positions[1], sh->plumulaceous);
+        if (sh->split_count > 0)
+            return plm_json_fail(r, path, "frequency", "give either a list or a frequency, not both");
+    }
     for (int i = 0; i < sh->split_count; ++i) {
         char item[64];
         const plm_split *sp = &sh->splits[i];

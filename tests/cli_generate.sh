@@ -83,7 +83,7 @@ bad split_beyond 'shape\.splits\.list\[0\]\.position.*out of range' \
 bad split_too_deep 'shape\.splits\.list\[0\]\.depth.*out of range' \
     '{"shape": {"splits": {"list": [{"position": 0.6, "depth": 2}]}}}'
 bad unknown_field 'shape\.rachis\.colour.*unknown field' '{"shape": {"rachis": {"colour": 1}}}'
-bad tip_shape 'shape\.vane\.tip\.shape' '{"shape": {"vane": {"tip": {"shape": "square"}}}}'
+bad tip_shape 'shape\.vane\.tip\.shape' '{"shape": {"vane": {"tip": {"shape": "oval"}}}}'
 bad malformed 'bad_malformed\.json:[0-9]+:[0-9]+' '{"shape": {'
 # The optics block is read as every scene reads it, so feather.json cannot carry one the renderer refuses.
 bad optics 'bad_optics\.json: optics\.barb.*frobnicate' '{"optics": {"barb": {"frobnicate": 1}}}'
