@@ -24,7 +24,7 @@
 #include "render/render.h"
 #include "tests/fiber_stats.h"
 #include "tests/fiber_table_stats.h"
-#include "test_render_stats.h"
+#include "tests/fiber_table_render.h"
 
 /* The options of every test here: the disk cache in cache_dir (NULL: none),
  * no progress, the given resolution (0: the defaults) and a small medulla
@@ -683,78 +683,23 @@ static void two_processes_build_at_once(void **state)
 
 /* ---- the renderer -------------------------------------------------------- */
 
-/* A feather sheet under a sky and a low sun, seen at an angle, rendered
- * with each estimator; barb_eccentricity 1 is the default feather (a
- * circular barb with a medulla), otherwise its barb's cortex is that
- * ellipse, as most species presets have it (the tables' least accurate
- * case, docs/fiber.md). The two must agree in every quadrant of the image
- * and over the whole: five z-tests at 3.9 standard errors (false alarm
- * 5e-4 in all). With 1.5 10^5 paths per quadrant and estimator the
- * standard error of the difference is 0.3-0.7% of a quadrant's mean, so a
- * bias of 1.2-2.6% in any quadrant fails (the tabulated part's own error
- * averages far below that over a quadrant); the medulla's part left out of
- * the table failed at z = 35. */
+/* The feather sheet (tests/fiber_table_render.h) with each estimator must
+ * agree in every quadrant of the image and over the whole: five z-tests at
+ * 3.9 standard errors (false alarm 5e-4 in all). With 1.5 10^5 paths per
+ * quadrant and estimator the standard error of the difference is 0.3-0.7%
+ * of a quadrant's mean, so a bias of 1.2-2.6% in any quadrant fails (the
+ * tabulated part's own error averages far below that over a quadrant;
+ * slow_fiber_table bounds it at 0.5%); the medulla's part left out of the
+ * table failed at z = 35. */
 static void estimators_agree(double barb_eccentricity, uint64_t seed)
 {
-    enum { QUADS = 4, PATHS = 150000 };
-    estimate e[2][QUADS];
-    for (int k = 0; k < 2; ++k) {
-        plm_scene s;
-        plm_scene_init(&s);
-        plm_mesh mesh;
-        plm_error err;
-        assert_int_equal(plm_shape_quad(2.0, 2.0, 1.0, 16, &mesh, &err), PLM_OK);
-        plm_material m;
-        memset(&m, 0, sizeof m);
-        snprintf(m.name, sizeof m.name, "vane");
-        m.type = PLM_MATERIAL_FEATHER;
-        m.reflectance = rgb_gray(0.7);
-        m.feather = malloc(sizeof *m.feather);
-        assert_non_null(m.feather);
-        plm_feather_params_default(m.feather);
-        m.feather->barb.eccentricity = m.feather->masking.barb_eccentricity = barb_eccentricity;
-        plm_feather_params_prepare_masking(m.feather);
-        m.feather->bcsdf = k ? PLM_BCSDF_STOCHASTIC : PLM_BCSDF_TABULATED;
-        float *px = malloc(sizeof(float) * 3 * 4); /* the texture takes it */
-        assert_non_null(px);
-        for (int i = 0; i < 4; ++i) /* all vane, barbs at 60 degrees */
-            px[3 * i] = (float)((sin(plm_radians(60.0)) + 1) / 2), px[3 * i + 1] = (float)((cos(plm_radians(60.0)) + 1) / 2),
-            px[3 * i + 2] = 1.0f;
-        assert_int_equal(plm_feather_texture_from_pixels(2, 2, px, &m.texture, &err), PLM_OK);
-        plm_instance in = {.mesh = plm_scene_add_mesh(&s, "vane", &mesh), .material = plm_scene_add_material(&s, &m),
-                           .xform = plm_xform_identity(), .tint = rgb_gray(1.0)};
-        assert_true(plm_scene_add_instance(&s, &in) >= 0);
-        plm_light sky = plm_light_default(PLM_LIGHT_CONSTANT_ENV), sun = plm_light_default(PLM_LIGHT_DISTANT);
-        sky.radiance = rgb_make(0.3, 0.4, 0.6);
-        plm_scene_add_light(&s, &sky);
-        sun.direction = v3_normalize(v3(-0.6, 0.3, 0.75));
-        sun.irradiance = rgb_gray(3.0);
-        plm_scene_add_light(&s, &sun);
-        s.camera = (plm_camera_desc){v3(0.8, -1.2, 1.6), v3(0, 0, 0), v3(0, 0, 1), 40, 0, 0, 1};
-        s.film.width = s.film.height = 24;
-        plm_world w;
-        assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
-        for (int q = 0; q < QUADS; ++q) {
-            double x0 = 0.5 * (q % 2), y0 = 0.5 * (q / 2);
-            e[k][q] = film_region_mean(&w, PLM_ESTIMATOR_MIS, 6, PATHS, seed + 10 * k + q, x0, y0, x0 + 0.5, y0 + 0.5);
-            fprintf(stderr, "%s, quadrant %d: mean %.5f +- %.5f\n", k ? "stochastic" : "tabulated", q, e[k][q].mean,
-                    e[k][q].se);
-        }
-        plm_world_free(&w);
-        plm_scene_free(&s);
-    }
-    estimate whole[2];
-    for (int k = 0; k < 2; ++k) { /* equal areas: the whole is the quadrants' mean */
-        whole[k].mean = whole[k].se = 0.0;
-        for (int q = 0; q < QUADS; ++q) {
-            whole[k].mean += e[k][q].mean / QUADS;
-            whole[k].se += plm_sqr(e[k][q].se / QUADS);
-        }
-        whole[k].se = sqrt(whole[k].se);
-    }
+    estimate e[2][SHEET_QUADS];
+    const long paths[2] = {150000, 150000};
+    sheet_estimator_quadrants(barb_eccentricity, paths, seed, 1, e);
+    estimate whole[2] = {sheet_whole(e[0]), sheet_whole(e[1])};
     fprintf(stderr, "whole image: tabulated %.5f +- %.5f, stochastic %.5f +- %.5f\n", whole[0].mean, whole[0].se,
             whole[1].mean, whole[1].se);
-    for (int q = 0; q < QUADS; ++q)
+    for (int q = 0; q < SHEET_QUADS; ++q)
         assert_agree(e[0][q], e[1][q], 3.9);
     assert_agree(whole[0], whole[1], 3.9);
 }
