@@ -31,7 +31,6 @@
 #include <string.h>
 
 #include "common/vector_clones.h"
-#include "optics/fiber_table.h"
 
 #define HALF_PI (0.5 * PLM_PI)
 
@@ -742,8 +741,8 @@ static size_t node_scratch(const build_ctx *b)
            sizeof(int) * 2 * (size_t)cols;
 }
 
-plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
-                                   const struct plm_fiber_table_options *o, double started, plm_error *err)
+plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m, int threads, int quiet,
+                                   double started, plm_error *err)
 {
     if (m->res.theta_nodes == 0)
         return PLM_OK;
@@ -752,10 +751,10 @@ plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_
     b.e.mass = malloc(sizeof(float) * per * (size_t)b.e.classes * (size_t)b.e.points);
     size_t emission_scratch = sizeof(double) * (fine_floats() * (size_t)b.e.classes + 3 * (size_t)FINE_PHI);
     int ok = b.e.mass && make_kernels(&b) &&
-             plm_fiber_parallel(emission_work, &b, b.e.points, emission_scratch, p->lobes, o, "medulla emission",
+             plm_fiber_parallel(emission_work, &b, b.e.points, emission_scratch, p->lobes, threads, quiet, "medulla emission",
                                 started) &&
              symmetrize(&b, m->symmetry) && (!m->factored || store_emission(&b)) &&
-             plm_fiber_parallel(node_work, &b, node_count(m), node_scratch(&b), p->lobes, o, "medulla views",
+             plm_fiber_parallel(node_work, &b, node_count(m), node_scratch(&b), p->lobes, threads, quiet, "medulla views",
                                 started);
     free(b.e.mass);
     free(b.theta_kernel);

@@ -28,6 +28,7 @@
 #include <stddef.h>
 
 #include "optics/fiber.h"
+#include "optics/fiber_grid.h"
 
 /* Default resolution aims at this many bytes (within the fiber table's budget). */
 #define PLM_FIBER_MEDULLA_BUDGET ((size_t)10 << 20)
@@ -87,12 +88,10 @@ void plm_fiber_medulla_bound_energies(plm_fiber_medulla_table *m);
 /* The h cell bounds and the bands' scales (data is the caller's). */
 plm_result plm_fiber_medulla_alloc(plm_fiber_medulla_table *m, plm_error *err);
 void plm_fiber_medulla_release(plm_fiber_medulla_table *m);
-/* Fills m->data (deterministically) on the threads of o, a
- * plm_fiber_table_options (optics/fiber_table.h), showing progress on stderr
- * as plm_fiber_parallel does. */
-struct plm_fiber_table_options;
-plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m,
-                                   const struct plm_fiber_table_options *o, double started, plm_error *err);
+/* Fills m->data (deterministically) on `threads` threads (0: all cores),
+ * showing progress on stderr as plm_fiber_parallel does unless quiet. */
+plm_result plm_fiber_medulla_build(const plm_fiber_params *p, plm_fiber_medulla_table *m, int threads, int quiet,
+                                   double started, plm_error *err);
 
 /* The largest |h| whose paths meet the medulla, seen from |theta_o| of
  * sine sin_theta and cosine cos_theta: min(1, r eta'), eta' the Bravais
@@ -127,8 +126,7 @@ typedef struct plm_fiber_medulla_query {
 } plm_fiber_medulla_query;
 
 /* v: wo and the interval as both parts see them (optics/fiber_table.h). */
-struct plm_fiber_view;
-void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const struct plm_fiber_view *v,
+void plm_fiber_medulla_prepare(const plm_fiber_medulla_table *m, const plm_fiber_view *v,
                                plm_fiber_medulla_query *q);
 /* At wi given by its angles in the table's orientation (theta_i, delta =
  * phi_i - phi_o, mirrored when the view is, cos(theta_i)): eval into *f (if

@@ -17,13 +17,9 @@
  * G_N's mean over the piece is integrated in closed form (moving lobes). */
 #include "optics/fiber_table.h"
 
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "common/vector_clones.h"
 
@@ -68,41 +64,6 @@ static float *bound_records(const plm_fiber_table *t, int node, int j)
 }
 static double bin_width(const plm_fiber_table *t) { return PLM_TWO_PI / t->phi_bins; }
 
-/* theta_o nodes are uniform in the mean of theta_o / theta_max and of
- * (u_first - u) / (u_first - u_last), where u = cos(theta_o) / sqrt(eta^2 -
- * sin^2(theta_o)) is the inverse of the Bravais index that bends azimuths
- * inside the fiber. Lobes move about evenly with u, which near grazing, where
- * the index grows without bound, changes much faster than theta_o; the
- * theta_o half keeps the nodes dense enough at moderate angles, where the
- * Fresnel energies still change (docs/fiber.md). */
-static double inverse_index(double eta, double sin_theta, double cos_theta)
-{
-    return cos_theta / sqrt(eta * eta - sin_theta * sin_theta);
-}
-
-double plm_fiber_theta_u(double eta, double theta) { return inverse_index(eta, sin(theta), cos(theta)); }
-
-double plm_fiber_theta_coordinate(double eta, double u_last, double theta_max, int nodes, double theta,
-                                  double sin_theta, double cos_theta)
-{
-    double u = inverse_index(eta, sin_theta, cos_theta), u_first = 1.0 / eta;
-    double x = 0.5 * (theta / theta_max + (u_first - u) / (u_first - u_last));
-    return plm_clamp(x, 0.0, 1.0) * (nodes - 1);
-}
-
-double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nodes, int k)
-{
-    double lo = 0.0, hi = theta_max; /* the coordinate inverted by bisection (it increases) */
-    for (int i = 0; i < 60; ++i) {
-        double mid = 0.5 * (lo + hi);
-        if (plm_fiber_theta_coordinate(eta, u_last, theta_max, nodes, mid, sin(mid), cos(mid)) < k)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return k == 0 ? 0.0 : k == nodes - 1 ? theta_max : 0.5 * (lo + hi);
-}
-
 /* The |theta_o| nodes over [0, theta_max], placed by u: all but the limit node. */
 static int placed_nodes(const plm_fiber_table *t) { return t->theta_nodes - t->limit_node; }
 
@@ -116,7 +77,7 @@ static double theta_coordinate(const plm_fiber_table *t, double theta, double si
     if (theta < t->theta_max || !t->limit_node)
         return plm_fiber_theta_coordinate(t->params.eta, t->u_last, t->theta_max, placed, theta, sin_theta,
                                           cos_theta);
-    double u = inverse_index(t->params.eta, sin_theta, cos_theta);
+    double u = plm_fiber_inverse_index(t->params.eta, sin_theta, cos_theta);
     return placed - 1.0 + plm_clamp((t->u_last - u) / (t->u_last - t->u_limit), 0.0, 1.0);
 }
 
@@ -125,14 +86,6 @@ static double node_theta(const plm_fiber_table *t, int k)
     int placed = placed_nodes(t);
     return k < placed ? plm_fiber_node_theta(t->params.eta, t->u_last, t->theta_max, placed, k)
                       : PLM_FIBER_THETA_LIMIT;
-}
-
-void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step)
-{
-    static const double span[] = {0.0, HALF_PI, PLM_PI, PLM_PI, PLM_TWO_PI};
-    static const double lo[] = {0.0, 0.0, -HALF_PI, 0.0, -PLM_PI};
-    *phi_lo = lo[symmetry];
-    *phi_step = phi_nodes > 1 ? span[symmetry] / (phi_nodes - (symmetry != PLM_FIBER_TABLE_NONE)) : 0.0;
 }
 
 /* The bytes a table aims at: o's budget_mib, kept within its range; 0 or
@@ -227,49 +180,7 @@ void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_opt
     t->floats = level_start(t, t->theta_nodes) + t->medulla.floats;
 }
 
-double *plm_fiber_h_nodes(int cells)
-{
-    double *node = malloc(sizeof(double) * (size_t)(cells + 1));
-    if (!node)
-        return NULL;
-    for (int j = 0; j <= cells; ++j)
-        node[j] = sin(-HALF_PI + PLM_PI * j / cells);
-    node[0] = -1.0;
-    node[cells] = 1.0;
-    return node;
-}
-
-int plm_fiber_h_sub_samples(double beta_n, int cells)
-{
-    /* Lobes move about 4 radians per radian of asin(h) at most: sub-samples
-     * half a beta_n apart keep the midpoint rule's error far below 1e-4. */
-    int n = (int)ceil(8.0 * PLM_PI / cells / beta_n);
-    return n < 4 ? 4 : n;
-}
-
 /* ---- building ------------------------------------------------------------ */
-
-void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double delta)
-{
-    double w = PLM_TWO_PI / bins, cut = 6.0 * beta, inv = 1.0 / (sqrt(2.0) * beta);
-    int wraps = 1 + (int)(cut / PLM_TWO_PI);
-    for (int m = -wraps; m <= wraps; ++m) {
-        double s = delta + PLM_TWO_PI * m, lo = fmax(s - cut, -PLM_PI), hi = fmin(s + cut, PLM_PI);
-        if (!(lo < hi))
-            continue;
-        int b0 = (int)floor((lo + PLM_PI) / w), b1 = (int)ceil((hi + PLM_PI) / w);
-        b0 = b0 < 0 ? 0 : b0;
-        b1 = b1 > bins ? bins : b1;
-        double prev = erf((-PLM_PI + b0 * w - s) * inv);
-        for (int b = b0; b < b1; ++b) {
-            double next = erf((-PLM_PI + (b + 1) * w - s) * inv), mass = 0.5 * (next - prev);
-            prev = next;
-            cell[3 * b] += A.r * mass;
-            cell[3 * b + 1] += A.g * mass;
-            cell[3 * b + 2] += A.b * mass;
-        }
-    }
-}
 
 /* A traced lobe's azimuth relative to the view, in [-pi, pi]. */
 static double lobe_delta(const plm_fiber_lobe *l, double phi_o)
@@ -410,74 +321,17 @@ static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lob
     }
 }
 
-typedef struct parallel_run {
-    plm_fiber_work work;
-    void *ctx;
-    int items, lobes;
-    size_t scratch_bytes;
-    atomic_int next, done, failed;
-} parallel_run;
-
-static void *parallel_worker(void *arg)
-{
-    parallel_run *r = arg;
-    double *scratch = malloc(r->scratch_bytes);
-    plm_fiber_lobe *lobes = malloc(sizeof(plm_fiber_lobe) * (size_t)r->lobes);
-    if (!scratch || !lobes)
-        atomic_store(&r->failed, 1);
-    for (int n; !atomic_load(&r->failed) && (n = atomic_fetch_add(&r->next, 1)) < r->items;) {
-        r->work(r->ctx, n, scratch, lobes);
-        atomic_fetch_add(&r->done, 1);
-    }
-    free(scratch);
-    free(lobes);
-    return NULL;
-}
-
-double plm_fiber_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes,
-                       const plm_fiber_table_options *o, const char *what, double started)
-{
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    int threads = o && o->threads > 0 ? o->threads : cores > 0 ? (int)cores : 1;
-    parallel_run r = {work, ctx, items, lobes, scratch_bytes, 0, 0, 0};
-    pthread_t *tid = calloc((size_t)threads, sizeof *tid);
-    if (!tid)
-        return 0;
-    int launched = 0;
-    for (int i = 0; i < threads; ++i)
-        if (pthread_create(&tid[launched], NULL, parallel_worker, &r) == 0)
-            ++launched;
-    if (launched == 0)
-        parallel_worker(&r);
-    while (launched > 0 && atomic_load(&r.done) < items && !atomic_load(&r.failed)) {
-        struct timespec nap = {0, 100000000};
-        nanosleep(&nap, NULL);
-        if (plm_fiber_seconds() - started > 1.0 && !(o && o->quiet))
-            fprintf(stderr, "\rbuilding fiber table, %s: %3d%% (%d threads)", what,
-                    100 * atomic_load(&r.done) / items, launched);
-    }
-    for (int i = 0; i < launched; ++i)
-        pthread_join(tid[i], NULL);
-    free(tid);
-    return !atomic_load(&r.failed);
-}
-
 /* Fills t->data (allocated by the caller) on all cores, showing progress on
  * stderr once the build has taken a second. */
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err)
 {
     double t0 = plm_fiber_seconds();
+    int threads = o ? o->threads : 0, quiet = o && o->quiet;
     if (!plm_fiber_parallel(build_node, t, t->theta_nodes * t->phi_nodes,
-                            sizeof(double) * 3 * (size_t)(2 * t->phi_bins + 1), t->params.lobes, o, "azimuths", t0))
+                            sizeof(double) * 3 * (size_t)(2 * t->phi_bins + 1), t->params.lobes, threads, quiet,
+                            "azimuths", t0))
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
-    plm_result rc = plm_fiber_medulla_build(&t->params, &t->medulla, o, t0, err);
+    plm_result rc = plm_fiber_medulla_build(&t->params, &t->medulla, threads, quiet, t0, err);
     if (rc != PLM_OK)
         return rc;
     t->build_seconds = plm_fiber_seconds() - t0;
@@ -567,69 +421,6 @@ static PLM_VECTOR_INLINE double wrap_near(double a)
     return a > PLM_PI ? a - PLM_TWO_PI : a < -PLM_PI ? a + PLM_TWO_PI : a;
 }
 
-/* The cell of h (given with its asin, as cells are uniform in it) and h's
- * fraction across it. */
-static int h_cell(const double *h_node, int cells, double h, double asin_h, double *frac)
-{
-    int j = (int)floor((asin_h + HALF_PI) / PLM_PI * cells);
-    j = j < 0 ? 0 : j >= cells ? cells - 1 : j;
-    double lo = h_node[j], hi = h_node[j + 1];
-    *frac = plm_clamp((h - lo) / (hi - lo), 0.0, 1.0);
-    return j;
-}
-
-static void add_row(plm_fiber_h_rows *l, int j, double coef)
-{
-    for (int r = 0; r < l->n; ++r)
-        if (l->row[r] == j) {
-            l->coef[r] += coef;
-            return;
-        }
-    l->row[l->n] = j;
-    l->coef[l->n++] = coef;
-}
-
-void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *l)
-{
-    double f0, f1;
-    int j0 = h_cell(h_node, cells, v->hmin, v->asin_hmin, &f0), j1 = h_cell(h_node, cells, v->hmax, v->asin_hmax, &f1);
-    l->n = 0;
-    double width = v->hmax - v->hmin;
-    if (width < PLM_FIBER_POINT_WIDTH) { /* the density at a point: its cell's */
-        double inv = 1.0 / (h_node[j0 + 1] - h_node[j0]);
-        add_row(l, j0 + 1, inv);
-        add_row(l, j0, -inv);
-        return;
-    }
-    double inv = 1.0 / width;
-    add_row(l, j1, (1.0 - f1) * inv);
-    add_row(l, j1 + 1, f1 * inv);
-    add_row(l, j0, -(1.0 - f0) * inv);
-    add_row(l, j0 + 1, -f0 * inv);
-}
-
-void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
-                           double *frac)
-{
-    ip[0] = ip[1] = 0;
-    *frac = 0.0;
-    if (phi_nodes < 2)
-        return;
-    double x = (phi - phi_lo) / phi_step;
-    if (symmetry == PLM_FIBER_TABLE_NONE) { /* periodic */
-        x = x - phi_nodes * floor(x / phi_nodes);
-        ip[0] = (int)x % phi_nodes;
-        ip[1] = (ip[0] + 1) % phi_nodes;
-        *frac = x - floor(x);
-    } else {
-        x = plm_clamp(x, 0.0, phi_nodes - 1.0);
-        ip[0] = (int)x;
-        ip[0] = ip[0] >= phi_nodes - 1 ? phi_nodes - 2 : ip[0];
-        ip[1] = ip[0] + 1;
-        *frac = x - ip[0];
-    }
-}
-
 /* The interval's mean at column col: channel 0 (mean of RGB) ... */
 static PLM_VECTOR_INLINE double column_mean(const plm_fiber_table_query *q, int col)
 {
@@ -652,97 +443,6 @@ static PLM_VECTOR_INLINE void bin_masses(const plm_fiber_table_query *q, int b, 
     for (int i = 0; i < count; ++i)
         for (int ch = 0; ch < 3; ++ch)
             mass[i][ch] = col[i + 1][ch] - col[i][ch];
-}
-
-int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber_view *v)
-{
-    double ct = sqrt(wo.x * wo.x + wo.y * wo.y);
-    if (!(ct > 1e-12) || !(hmin <= hmax))
-        return 0;
-    double len = sqrt(ct * ct + wo.z * wo.z); /* wo is about unit length: no hypot needed */
-    v->theta_o = plm_atan2(wo.z, ct);
-    v->phi_o = plm_atan2(wo.y, wo.x);
-    v->sin_theta = fabs(wo.z) / len;
-    v->cos_theta = ct / len;
-    /* x -> -x takes phi to pi - phi, y -> -y takes phi to -phi; either turns
-     * relative azimuths and h around (docs/fiber.md). phi_o is in [-pi, pi],
-     * so its signs tell cos(phi_o) < 0 and sin(phi_o) < 0. */
-    int mirror_x = (symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_X) &&
-                   fabs(v->phi_o) > HALF_PI;
-    int mirror_y = (symmetry == PLM_FIBER_TABLE_MIRROR_XY || symmetry == PLM_FIBER_TABLE_MIRROR_Y) && v->phi_o < 0.0;
-    double phi = mirror_x ? PLM_PI - v->phi_o : v->phi_o;
-    v->phi = plm_wrap_pi(mirror_y ? -phi : phi);
-    v->flip = mirror_x ^ mirror_y;
-    if (v->flip) {
-        double lo = -hmax;
-        hmax = -hmin;
-        hmin = lo;
-    }
-    v->hmin = plm_clamp(hmin, -1.0, 1.0);
-    v->hmax = plm_clamp(hmax, -1.0, 1.0);
-    v->asin_hmin = plm_asin(v->hmin);
-    v->asin_hmax = plm_asin(v->hmax);
-    return 1;
-}
-
-void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
-                       double phi, int nodes[4], double w[4])
-{
-    int it = (int)ft;
-    it = it >= theta_nodes - 1 ? theta_nodes - 2 : it;
-    ft -= it;
-    int ip[2];
-    double fp;
-    plm_fiber_phi_weights(symmetry, phi_nodes, phi_lo, phi_step, phi, ip, &fp);
-    nodes[0] = it * phi_nodes + ip[0], nodes[1] = it * phi_nodes + ip[1];
-    nodes[2] = (it + 1) * phi_nodes + ip[0], nodes[3] = (it + 1) * phi_nodes + ip[1];
-    w[0] = (1 - ft) * (1 - fp), w[1] = (1 - ft) * fp, w[2] = ft * (1 - fp), w[3] = ft * fp;
-}
-
-int plm_fiber_energy_first(int theta_nodes, double ft)
-{
-    if (theta_nodes < 3)
-        return -1;
-    int it = (int)ft;
-    it = it >= theta_nodes - 1 ? theta_nodes - 2 : it;
-    return it >= 1 ? it - 1 : it;
-}
-
-double plm_fiber_energy_scale(const double *node_cos, int theta_nodes, double ft, double cos_theta, const double e[3])
-{
-    int it = (int)ft, first = plm_fiber_energy_first(theta_nodes, ft);
-    it = it >= theta_nodes - 1 ? theta_nodes - 2 : it;
-    double f = ft - it, x = fmax(cos_theta, node_cos[theta_nodes - 1]), quad = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        double l = 1.0; /* Lagrange's weight of node first + k at x */
-        for (int m = 0; m < 3; ++m)
-            if (m != k)
-                l *= (x - node_cos[first + m]) / (node_cos[first + k] - node_cos[first + m]);
-        quad += l * e[k];
-    }
-    /* Not beyond the two nodes' energies: the quadratic overshoots where the
-     * energy's slope changes abruptly between nodes (a white fiber's parts
-     * both stay within theirs, so that their sum is kept). */
-    double lo = e[it - first], hi = e[it + 1 - first], lin = (1.0 - f) * lo + f * hi;
-    quad = plm_clamp(quad, fmin(lo, hi), fmax(lo, hi));
-    return lin > 0.0 ? plm_positive(quad) / lin : 1.0;
-}
-
-int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
-                    const plm_fiber_h_rows *rows, const float **term, double *coef, int *node_end)
-{
-    /* Row 0 is all zeros, and so is what a zero weight multiplies: neither makes a term. */
-    int n = 0;
-    for (int c = 0; c < 4; ++c) {
-        for (int r = 0; r < rows->n; ++r)
-            if (w[c] > 0.0 && rows->coef[r] != 0.0 && rows->row[r] > 0) {
-                term[n] = data + node_floats * (size_t)nodes[c] + row_floats * (size_t)rows->row[r];
-                coef[n++] = w[c] * rows->coef[r];
-            }
-        if (node_end)
-            node_end[c] = n;
-    }
-    return n;
 }
 
 /* Lobe k (a slot) across a cell seen from the view between the four nodes
@@ -796,8 +496,8 @@ static void add_piece(const plm_fiber_table *t, const int nodes[4], const double
         from_rows = w[c] > 0.0 && bound_records(t, nodes[c], j)[4 * t->lobe_slots] == 0.0f;
     if (from_rows) {
         double coef = share / (t->h_node[j + 1] - t->h_node[j]);
-        add_row(rows, j + 1, coef);
-        add_row(rows, j, -coef);
+        plm_fiber_rows_add(rows, j + 1, coef);
+        plm_fiber_rows_add(rows, j, -coef);
         return;
     }
     const float *r0[4], *r1[4];
@@ -833,8 +533,8 @@ static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, c
                             const double w[4], plm_fiber_h_rows *rows, plm_fiber_table_query *q)
 {
     double f0, f1, hmin = v->hmin, hmax = v->hmax, width = hmax - hmin;
-    int j0 = h_cell(t->h_node, t->h_cells, hmin, v->asin_hmin, &f0);
-    int j1 = h_cell(t->h_node, t->h_cells, hmax, v->asin_hmax, &f1);
+    int j0 = plm_fiber_h_cell(t->h_node, t->h_cells, hmin, v->asin_hmin, &f0);
+    int j1 = plm_fiber_h_cell(t->h_node, t->h_cells, hmax, v->asin_hmax, &f1);
     if (width < PLM_FIBER_POINT_WIDTH) {
         add_piece(t, nodes, w, j0, f0, f0, 1.0, rows, q);
     } else if (j0 == j1) {
@@ -843,8 +543,8 @@ static void interval_pieces(const plm_fiber_table *t, const plm_fiber_view *v, c
         double inv = 1.0 / width;
         add_piece(t, nodes, w, j0, f0, 1.0, (t->h_node[j0 + 1] - hmin) * inv, rows, q);
         add_piece(t, nodes, w, j1, 0.0, f1, (hmax - t->h_node[j1]) * inv, rows, q);
-        add_row(rows, j1, inv);
-        add_row(rows, j0 + 1, -inv);
+        plm_fiber_rows_add(rows, j1, inv);
+        plm_fiber_rows_add(rows, j0 + 1, -inv);
     }
 }
 

@@ -18,6 +18,7 @@
 #include <stddef.h>
 
 #include "optics/fiber.h"
+#include "optics/fiber_grid.h"
 #include "optics/fiber_medulla_table.h"
 
 #define PLM_FIBER_TABLE_VERSION 15
@@ -49,14 +50,6 @@ typedef struct plm_fiber_table_options {
     plm_fiber_medulla_resolution medulla; /* the medulla part's resolution, 0 = defaults */
 } plm_fiber_table_options;
 
-/* Which mirror symmetries of the cross-section the table exploits. */
-enum {
-    PLM_FIBER_TABLE_ROTATIONAL = 0, /* circular cortex, no or a centred circular medulla: one phi_o node */
-    PLM_FIBER_TABLE_MIRROR_XY = 1,  /* phi_o in [0, pi/2] */
-    PLM_FIBER_TABLE_MIRROR_X = 2,   /* medulla off the e3 axis only along e3 (x -> -x): phi_o in [-pi/2, pi/2] */
-    PLM_FIBER_TABLE_MIRROR_Y = 3,   /* y -> -y: phi_o in [0, pi] */
-    PLM_FIBER_TABLE_NONE = 4        /* phi_o all around */
-};
 
 typedef struct plm_fiber_table {
     plm_fiber_params params;
@@ -103,105 +96,6 @@ plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err);
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err);
 /* Both parts' copies of their rows' energies (bound_energy), once the data is built or read. */
 void plm_fiber_table_bound_energies(plm_fiber_table *t);
-
-/* Shared by both parts' tables (fiber_medulla_table.c): h cell bounds
- * uniform in asin(h) (malloc'ed, NULL when out of memory) and the number of
- * h samples per cell the builds take (the same h in both parts where the
- * medulla's rows run over h, so their energies add up); phi_o of the first
- * node and the step between nodes for a symmetry; the two phi_o nodes
- * around a folded phi_o and the fraction between them; and the wrapped
- * Gaussian G_N's mass in each of `bins` bins over [-pi, pi) times A, added
- * to cell (RGB per bin). */
-double *plm_fiber_h_nodes(int cells);
-/* The |theta_o| nodes of docs/fiber.md (denser toward grazing): u(theta), the
- * inverse Bravais index; the node coordinate (0 .. nodes - 1) of theta given
- * with its sine and cosine, u_last = u(theta_max); node k's theta. */
-double plm_fiber_theta_u(double eta, double theta);
-double plm_fiber_theta_coordinate(double eta, double u_last, double theta_max, int nodes, double theta,
-                                  double sin_theta, double cos_theta);
-double plm_fiber_node_theta(double eta, double u_last, double theta_max, int nodes, int k);
-int plm_fiber_h_sub_samples(double beta_n, int cells); /* per cell, midpoint rule in asin(h) */
-void plm_fiber_phi_nodes(int symmetry, int phi_nodes, double *phi_lo, double *phi_step);
-void plm_fiber_phi_weights(int symmetry, int phi_nodes, double phi_lo, double phi_step, double phi, int ip[2],
-                           double *frac);
-void plm_fiber_gn_deposit(double *cell, int bins, double beta, rgb A, double delta);
-/* A prepare's steps shared by both parts: wo and the h-interval in the
- * tables' terms (0 at the poles or for an empty interval); the rows and
- * coefficients (at most 4) whose combination of cumulative rows is the mean
- * over the view's interval; the four nodes (|theta_o| node it, phi_o node
- * ip: index it phi_nodes + ip) around the view and their bilinear weights,
- * given |theta_o|'s node coordinate ft and the folded phi_o; and the
- * weighted rows (terms, at most 16) whose sum is the interval's mean
- * between those nodes: node c's row rows->row[r] with weight w[c]
- * rows->coef[r], the nodes node_floats and the rows row_floats apart in
- * data, node by node (node_end, if not NULL: where each node's terms end).
- * Returns the number of terms. */
-typedef struct plm_fiber_view {
-    double theta_o, phi_o;       /* wo's angles */
-    double sin_theta, cos_theta; /* of |theta_o| */
-    double phi;                  /* phi_o folded into the symmetry's range */
-    int flip;                    /* the mirrored view: relative azimuths and h change sign */
-    double hmin, hmax;           /* the interval in the folded view, within [-1, 1] ... */
-    double asin_hmin, asin_hmax; /* ... and their asin (h cells are uniform in it) */
-} plm_fiber_view;
-int plm_fiber_view_of(int symmetry, vec3 wo, double hmin, double hmax, plm_fiber_view *v);
-typedef struct plm_fiber_h_rows {
-    int row[4];
-    double coef[4];
-    int n;
-} plm_fiber_h_rows;
-/* An h-interval narrower than this counts as a point (the density at its
- * h): the mean over an interval divides by its width, 0 / 0 at a point and
- * mostly rounding near one. */
-#define PLM_FIBER_POINT_WIDTH 1e-9
-void plm_fiber_interval_rows(const double *h_node, int cells, const plm_fiber_view *v, plm_fiber_h_rows *rows);
-/* The interval's energy at one |theta_o| node, blended between its two
- * phi_o nodes (fraction fp) from their cell bounds' energies b0 and b1:
- * the rows' combination of them. */
-static inline double plm_fiber_rows_energy(const float *b0, const float *b1, double fp, const plm_fiber_h_rows *rows)
-{
-    const float *b[2] = {b0, b1};
-    double e = 0.0;
-    for (int j = 0; j < 2; ++j) {
-        double wj = j ? fp : 1.0 - fp;
-        if (!(wj > 0.0))
-            continue;
-        for (int r = 0; r < rows->n; ++r)
-            e += wj * rows->coef[r] * b[j][rows->row[r]];
-    }
-    return e;
-}
-/* The blend's energy scale of tables without lobe records (docs/fiber.md):
- * the first of the three |theta_o| nodes through which the interval's
- * energy is interpolated at node coordinate ft (-1: fewer than three
- * nodes), and the scale from their energies e[0..2] (mean of RGB): the
- * quadratic through them in cos(|theta_o|) at cos_theta (not past the last
- * node) over the linear blend of the two nodes around ft, 1 if that is 0. */
-int plm_fiber_energy_first(int theta_nodes, double ft);
-double plm_fiber_energy_scale(const double *node_cos, int theta_nodes, double ft, double cos_theta, const double e[3]);
-void plm_fiber_corners(int symmetry, int theta_nodes, int phi_nodes, double phi_lo, double phi_step, double ft,
-                       double phi, int nodes[4], double w[4]);
-int plm_fiber_terms(const float *data, size_t node_floats, size_t row_floats, const int nodes[4], const double w[4],
-                    const plm_fiber_h_rows *rows, const float **term, double *coef, int *node_end);
-/* The column to probe next when searching a cumulative row for the columns
- * lo < hi around goal (their values x0 <= goal < x1): the first three probes
- * where the row, taken as linear between them, reaches goal (a row is
- * smooth over a few columns, so two or three probes tend to do), then
- * bisection (in case it is not). Both parts' samplers search this way. */
-static inline int plm_fiber_search_probe(int probe, int lo, int hi, double x0, double x1, double goal)
-{
-    int mid = probe < 3 ? lo + (int)((goal - x0) / (x1 - x0) * (hi - lo) + 0.5) : (lo + hi) / 2;
-    return mid <= lo ? lo + 1 : mid >= hi ? hi - 1 : mid;
-}
-/* Runs work(ctx, item, scratch, lobes) for items 0..items-1 on o's threads
- * (0: all cores), each thread with scratch_bytes of scratch and room for
- * `lobes` lobes, showing "what" and the progress on stderr (unless o->quiet)
- * once `started` (plm_fiber_seconds) is a second ago; returns 0 when out of
- * memory. */
-typedef void (*plm_fiber_work)(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes);
-int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes,
-                       const plm_fiber_table_options *o, const char *what, double started);
-double plm_fiber_seconds(void); /* monotonic */
 
 /* The cache file the table for (p, o) lives in; returns 0 if there is no cache directory. */
 int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_options *o, char *path,

@@ -653,7 +653,7 @@ static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rn
             query[i] = error_query(p, &other, uniform);
         harness hs = {t, &layout, query, result, ro->strata, ro->study};
         double started = plm_fiber_seconds();
-        assert_true(plm_fiber_parallel(query_work, &hs, ro->queries, sizeof(double), p->lobes, &o, name, started));
+        assert_true(plm_fiber_parallel(query_work, &hs, ro->queries, sizeof(double), p->lobes, o.threads, o.quiet, name, started));
         report(name, uniform, query, result, ro->queries, ro->study);
         fprintf(stderr, "%-28s table %d x %d nodes, estimators %d x %d, %d strata, %.0f s\n", name, t->theta_nodes,
                 t->phi_nodes, layout.theta_nodes, layout.phi_nodes, ro->strata, plm_fiber_seconds() - started);
