@@ -14,7 +14,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "optics/feather_bsdf.h"
-#include "optics/fiber_table.h"
+#include "optics/fiber_bcsdf.h"
 
 /* Powers of two, cycled with a mask. Queries are many so branches cannot be
  * learnt; prepared sets few, because a renderer evaluates the set it has just

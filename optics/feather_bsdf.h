@@ -18,7 +18,7 @@
 #include "common/rng.h"
 #include "common/vec.h"
 #include "optics/fiber.h"
-#include "optics/fiber_table.h"
+#include "optics/fiber_bcsdf.h"
 #include "optics/masking.h"
 
 /* The fiber BCSDF estimator of a feather (docs/fiber.md). */

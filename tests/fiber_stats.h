@@ -5,7 +5,7 @@
 #ifndef PLUMAGE_TESTS_FIBER_STATS_H
 #define PLUMAGE_TESTS_FIBER_STATS_H
 
-#include "optics/fiber_table.h"
+#include "optics/fiber_bcsdf.h"
 #include "tests/chi_square.h"
 
 /* The stochastic BCSDF of a traced lobe set. */

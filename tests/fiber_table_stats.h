@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "optics/fiber_table.h"
+#include "optics/fiber_bcsdf.h"
 
 /* The longitudinal detector: a Gaussian of std-dev beta about Theta,
  * normalised on [-pi/2, pi/2], written out independently of fiber.c. */
