@@ -14,10 +14,11 @@
 #include <unistd.h>
 
 #include "cli/batch.h"
-#include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "common/fileio.h"
+#include "common/progress.h"
 
 static volatile sig_atomic_t stop_batch;
 
@@ -35,7 +36,7 @@ typedef struct runner {
     pid_t *pids;
     int *running; /* job index per slot, -1 = free */
     int slots, n_running, finished, failed;
-    double start;
+    plm_progress progress;
 } runner;
 
 /* "dir/" + "x" with a length check. */
@@ -86,31 +87,15 @@ static int spawn(runner *r, int slot, int job)
     return 1;
 }
 
-static void format_minutes(double s, char *out, size_t size)
-{
-    int t = (int)(s + 0.5);
-    snprintf(out, size, "%d:%02d", t / 60, t % 60);
-}
-
-/* One overall bar: jobs finished, failures, elapsed and estimated time left. */
-static void draw_progress(const runner *r, int quiet)
+/* One overall bar: jobs finished and failures, the time left estimated from the jobs finished. */
+static void draw_progress(runner *r, int quiet, int last)
 {
     if (quiet)
         return;
-    double elapsed = plm_bench_seconds() - r->start;
-    char el[16], left[16] = "?";
-    format_minutes(elapsed, el, sizeof el);
-    if (r->finished > 0)
-        format_minutes(elapsed / r->finished * (r->n_todo - r->finished), left, sizeof left);
-    int width = 30, filled = r->n_todo ? width * r->finished / r->n_todo : width;
-    char bar[64];
-    for (int i = 0; i < width; ++i)
-        bar[i] = i < filled ? '#' : '.';
-    bar[width] = '\0';
-    int tty = isatty(2);
-    fprintf(stderr, "%s[%s] %d/%d jobs, %d failed, %s elapsed, %s left%s", tty ? "\r" : "", bar, r->finished,
-            r->n_todo, r->failed, el, left, tty ? "  " : "\n");
-    fflush(stderr);
+    char detail[64];
+    snprintf(detail, sizeof detail, "%d/%d jobs, %d failed", r->finished, r->n_todo, r->failed);
+    (last ? plm_progress_finish : plm_progress_update)(&r->progress, r->n_todo ? (double)r->finished / r->n_todo : 1.0,
+                                                       detail);
 }
 
 /* A child ended: its log goes into place; a failure is reported at once. */
@@ -133,10 +118,10 @@ static void reap(runner *r, int slot, int status, int quiet)
             snprintf(why, sizeof why, "killed by signal %d", WTERMSIG(status));
         else
             snprintf(why, sizeof why, "exit %d", WEXITSTATUS(status));
-        fprintf(stderr, "%sjob %s failed (%s): %s\n", !quiet && isatty(2) ? "\n" : "", r->b->m.jobs[job].name, why,
-                st.message[0] ? st.message : "see its log.txt");
+        fprintf(stderr, "%sjob %s failed (%s): %s\n", !quiet && r->progress.tty ? "\n" : "", r->b->m.jobs[job].name,
+                why, st.message[0] ? st.message : "see its log.txt");
     }
-    draw_progress(r, quiet);
+    draw_progress(r, quiet, 0);
 }
 
 static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
@@ -181,7 +166,8 @@ static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
     sa.sa_handler = on_stop;
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
-    r.start = plm_bench_seconds();
+    plm_progress_start(&r.progress, "batch");
+    double last_draw = 0.0;
     int spawn_failed = 0, forwarded = 0;
     for (;;) {
         for (int s = 0; s < r.slots && !stop_batch && !spawn_failed && r.next < r.n_todo; ++s)
@@ -204,14 +190,15 @@ static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
         } else {
             struct timespec nap = {0, 20000000}; /* 20 ms: a finished job waits at most that for its successor */
             nanosleep(&nap, NULL);
-            if (!quiet && isatty(2))
-                draw_progress(&r, quiet);
+            if (r.progress.tty && plm_progress_seconds() - last_draw > 0.25) { /* the time left goes down */
+                draw_progress(&r, quiet, 0);
+                last_draw = plm_progress_seconds();
+            }
         }
     }
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
-    if (!quiet && isatty(2))
-        fputc('\n', stderr);
+    draw_progress(&r, quiet, 1);
     int not_done = plm_batch_gather(b, 0, quiet); /* the reasons were printed as the jobs ended */
     free(r.todo);
     free(r.pids);
@@ -272,8 +259,9 @@ static int open_batch(plm_batch *b, const char *manifest, const char *output, in
         plm_manifest_free(&b->m);
         return 0;
     }
-    if (create && plm_make_dirs(b->out, &err) != PLM_OK) {
-        fprintf(stderr, "error: %s\n", err.message);
+    plm_outputs outputs = {0};
+    const char *option = output && output[0] ? "-o" : (b->m.output[0] ? "output" : "output folder");
+    if (create && !plm_outputs_folder(&outputs, option, dir)) {
         plm_manifest_free(&b->m);
         return 0;
     }
@@ -321,7 +309,13 @@ int cmd_batch(int argc, char **argv)
         "each as its own process writing image.png, image.exr and summary.json into OUT/<job>/. Jobs already done\n"
         "are skipped, so an interrupted batch resumes where it stopped. A failing job does not stop the others;\n"
         "the batch then exits 1 and lists the failures. A sweep also gets OUT/contact_sheet.png, labelled with\n"
-        "the parameter values; every batch gets OUT/report.json."};
+        "the parameter values (each key's whole path); every batch gets OUT/report.json. A minimal manifest,\n"
+        "sweep.json, renders a scene at two fields of view and three light strengths (6 jobs):\n"
+        "  {\"scene\": \"../presets/scenes/vane_quad.json\", \"spp\": 16, \"resolution\": [192, 256],\n"
+        "   \"sweep\": {\"camera.fov\": [25, 40], \"lights.1.irradiance\": [[1, 1, 1], [2, 2, 2], [4, 4, 4]]}}\n"
+        "The scene is read from the manifest's folder; keys are --set paths (see plumage render --help); instead\n"
+        "of \"sweep\", \"jobs\": [{\"name\": \"wide\", \"set\": {\"camera.fov\": 60}}, ...] lists jobs one by one.\n"
+        "The output folder is the manifest's name in the working directory (sweep/), created if missing."};
     const char *positional[1];
     int n_pos = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), positional, 1, &n_pos);

@@ -8,6 +8,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/batch.h"
+#include "cli/outputs.h"
 #include "common/image_io.h"
 
 #define SHEET_TILE_MAX 256 /* widest image tile on the sheet, pixels */
@@ -238,6 +239,12 @@ int plm_batch_gather(const plm_batch *b, int explain, int quiet)
     }
     if (!quiet || counts[PLM_JOB_DONE] < b->m.n_jobs)
         print_counts(stderr, b, counts);
+    if (report_ok) {
+        char sheet[PLM_PATH_MAX + 32] = "";
+        if (b->m.n_keys > 0 && sheet_ok && counts[PLM_JOB_DONE] > 0)
+            snprintf(sheet, sizeof sheet, "%s/contact_sheet.png", b->out);
+        plm_print_wrote((const char *const[]){path, sheet}, 2);
+    }
     free(st);
     int not_done = b->m.n_jobs - counts[PLM_JOB_DONE];
     return not_done ? not_done : !(sheet_ok && report_ok);

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli/batch.h"
+#include "cli/outputs.h"
 #include "common/fileio.h"
 
 /* 'text' for the shell, with embedded quotes escaped. */
@@ -182,6 +183,8 @@ int plm_batch_slurm(const plm_batch *b, const plm_slurm_options *opt)
         print_file(gather_path);
         printf("# submit with:\n%s%s\nsbatch --dependency=afterany:<array job id> %s\n", n ? "sbatch " : "",
                n ? array_path : "# (every job is done: no array)", gather_path);
+        fflush(stdout);
+        plm_print_wrote((const char *const[]){n > 0 ? array_path : NULL, gather_path}, 2);
         return 0;
     }
     long array_id = 0;
@@ -207,5 +210,7 @@ int plm_batch_slurm(const plm_batch *b, const plm_slurm_options *opt)
     else
         printf("every job is done; submitted gather job %ld\n", gather_id);
     printf("follow with: plumage batch %s -o %s --status\n", b->manifest_path, b->out);
+    fflush(stdout);
+    plm_print_wrote((const char *const[]){n > 0 ? array_path : NULL, gather_path}, 2);
     return 0;
 }

@@ -16,6 +16,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "common/memory.h"
 #include "optics/feather_bsdf.h"
 #include "render/render.h"
@@ -228,6 +229,8 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
             plm_picture picture = plm_picture_of(&scene.film);
             if (plm_film_write(&shaded[k], exr, png, &picture, &err) != PLM_OK)
                 fprintf(stderr, "error: %s\n", err.message);
+            else
+                plm_print_wrote((const char *const[]){png, exr}, 2);
         }
     }
     opt.trace_only = 1;
@@ -295,6 +298,8 @@ int bench_render(int argc, char **argv)
     if (strcmp(o.bcsdf, "stochastic") == 0)
         o.kind[0] = PLM_BCSDF_STOCHASTIC;
     o.kinds = strcmp(o.bcsdf, "both") == 0 ? 2 : 1;
+    if (o.images && !plm_images_prefix_ok(o.images))
+        return 1;
     printf("%-30s %-10s %9s %4s %7s %16s %14s %14s %9s %8s %9s %9s\n", "scene", "bcsdf", "size", "spp", "threads",
            "samples/s/thread", "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB", "shaded s");
     char one[64], pelt[64];

@@ -15,6 +15,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "common/memory.h"
 #include "render/render.h"
 #include "scene/scene_file.h"
@@ -81,6 +82,8 @@ static void measure(const char *file, const char *text, const char *tag, const b
             plm_picture picture = plm_picture_of(&scene.film);
             if (plm_film_write(&film, NULL, path, &picture, &err) != PLM_OK)
                 fprintf(stderr, "error: %s\n", err.message);
+            else
+                plm_print_wrote((const char *const[]){path}, 1);
         }
         plm_film_free(&film);
     } else
@@ -204,6 +207,8 @@ int bench_scene(int argc, char **argv)
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), positional, 64, &n);
     if (rc)
         return rc == 1 ? 0 : 2;
+    if (o.images && !plm_images_prefix_ok(o.images))
+        return 1;
     int failures = 0;
     header();
     if (pelts) {

@@ -26,7 +26,8 @@ static int takes_a_file(const char *folder, char *why, size_t size)
     return 1;
 }
 
-int plm_outputs_folder(plm_outputs *o, const char *option, const char *folder)
+/* Makes and checks folder; messages show the option's value `shown`. */
+static int check_folder(plm_outputs *o, const char *option, const char *shown, const char *folder)
 {
     if (o->count == PLM_OUTPUTS_MAX) {
         fprintf(stderr, "internal error: more than %d outputs checked\n", PLM_OUTPUTS_MAX);
@@ -38,7 +39,7 @@ int plm_outputs_folder(plm_outputs *o, const char *option, const char *folder)
     while (len > 1 && folder[len - 1] == '/')
         --len;
     if (len >= sizeof clean) {
-        fprintf(stderr, "error: %s %s: the path is too long\n", option, folder);
+        fprintf(stderr, "error: %s %s: the path is too long\n", option, shown);
         return 0;
     }
     snprintf(clean, sizeof clean, "%.*s", (int)len, folder);
@@ -51,13 +52,33 @@ int plm_outputs_folder(plm_outputs *o, const char *option, const char *folder)
         snprintf(o->at[o->count++].folder, PLM_OUTPUTS_PATH, "%s", folder);
         return 1;
     }
-    fprintf(stderr, "error: %s %s: %s\n", option, folder, why);
+    fprintf(stderr, "error: %s %s: %s\n", option, shown, why);
     if (made[0]) { /* undo what this check made */
         snprintf(o->at[o->count].folder, PLM_OUTPUTS_PATH, "%s", folder);
         ++o->count;
         plm_outputs_undo(o);
     }
     return 0;
+}
+
+int plm_outputs_folder(plm_outputs *o, const char *option, const char *folder)
+{
+    return check_folder(o, option, folder, folder);
+}
+
+/* The folder of path ("." for a bare name); 0 after a message if too long. */
+static int folder_of(const char *option, const char *path, char folder[PLM_OUTPUTS_PATH])
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(folder, PLM_OUTPUTS_PATH, ".");
+    else if (slash == path)
+        snprintf(folder, PLM_OUTPUTS_PATH, "/");
+    else if (snprintf(folder, PLM_OUTPUTS_PATH, "%.*s", (int)(slash - path), path) >= PLM_OUTPUTS_PATH) {
+        fprintf(stderr, "error: %s %s: the path is too long\n", option, path);
+        return 0;
+    }
+    return 1;
 }
 
 int plm_outputs_file(plm_outputs *o, const char *option, const char *path)
@@ -73,17 +94,15 @@ int plm_outputs_file(plm_outputs *o, const char *option, const char *path)
         fprintf(stderr, "error: %s %s: cannot write: %s\n", option, path, strerror(errno));
         return 0;
     }
-    const char *slash = strrchr(path, '/');
     char folder[PLM_OUTPUTS_PATH];
-    if (!slash)
-        snprintf(folder, sizeof folder, ".");
-    else if (slash == path)
-        snprintf(folder, sizeof folder, "/");
-    else if (snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path) >= (int)sizeof folder) {
-        fprintf(stderr, "error: %s %s: the path is too long\n", option, path);
-        return 0;
-    }
-    return plm_outputs_folder(o, option, folder);
+    return folder_of(option, path, folder) && check_folder(o, option, path, folder);
+}
+
+int plm_images_prefix_ok(const char *prefix)
+{
+    char folder[PLM_OUTPUTS_PATH];
+    plm_outputs outputs = {0};
+    return folder_of("--images", prefix, folder) && check_folder(&outputs, "--images", prefix, folder);
 }
 
 void plm_outputs_undo(plm_outputs *o)

@@ -27,6 +27,10 @@ int plm_outputs_file(plm_outputs *o, const char *option, const char *path);
 /* The same for an output folder itself. */
 int plm_outputs_folder(plm_outputs *o, const char *option, const char *folder);
 
+/* A benchmark's --images PREFIX: the folder PREFIX_<case>.png files go into
+ * is checked (and made) as plm_outputs_file does; returns 1, or 0 after a message. */
+int plm_images_prefix_ok(const char *prefix);
+
 /* The command failed: removes the folders the checks created, innermost
  * first, as far as they are empty. */
 void plm_outputs_undo(plm_outputs *o);

@@ -7,12 +7,15 @@
  * (eval cos dw = eval cos^2 dtheta dphi).
  * The printed albedo is the mean over the same sets of sum_k A_k, which is
  * each set's exact integral. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/commands.h"
 #include "cli/fiber_cli.h"
+#include "cli/figure.h"
+#include "cli/outputs.h"
 #include "common/fileio.h"
 #include "common/image_io.h"
 
@@ -70,7 +73,8 @@ static int render_latlong(const plm_fiber_params *p, vec3 wo, int sets, uint64_t
     return 1;
 }
 
-static int write_csv(const char *path, const latlong *ll)
+/* One CSV for all plots: a row per pixel of each, the plot named first. */
+static int write_csv(const char *path, const latlong *plots, const char *const *names, int n)
 {
     plm_atomic_file f;
     plm_error err;
@@ -78,13 +82,16 @@ static int write_csv(const char *path, const latlong *ll)
         fprintf(stderr, "error: plumage probe bcsdf: %s\n", err.message);
         return 0;
     }
-    fprintf(f.fp, "theta_deg,phi_deg,value_r,value_g,value_b\n");
-    for (int y = 0; y < ll->height; ++y)
-        for (int x = 0; x < ll->width; ++x) {
-            const float *v = ll->values + 3 * (y * ll->width + x);
-            fprintf(f.fp, "%.6g,%.6g,%.9g,%.9g,%.9g\n", 90.0 - 180.0 * (y + 0.5) / ll->height,
-                    -180.0 + 360.0 * (x + 0.5) / ll->width, v[0], v[1], v[2]);
-        }
+    fprintf(f.fp, "fiber,theta_deg,phi_deg,value_r,value_g,value_b\n");
+    for (int k = 0; k < n; ++k) {
+        const latlong *ll = &plots[k];
+        for (int y = 0; y < ll->height; ++y)
+            for (int x = 0; x < ll->width; ++x) {
+                const float *v = ll->values + 3 * (y * ll->width + x);
+                fprintf(f.fp, "%s,%.6g,%.6g,%.9g,%.9g,%.9g\n", names[k], 90.0 - 180.0 * (y + 0.5) / ll->height,
+                        -180.0 + 360.0 * (x + 0.5) / ll->width, v[0], v[1], v[2]);
+            }
+    }
     if (plm_atomic_commit(&f, &err) != PLM_OK) {
         fprintf(stderr, "error: plumage probe bcsdf: %s\n", err.message);
         return 0;
@@ -92,69 +99,104 @@ static int write_csv(const char *path, const latlong *ll)
     return 1;
 }
 
-/* Tiles the plots into a grid (cols wide) with white gaps, scaled so the
- * brightest value of all is 1, and writes an sRGB PNG. */
-static int write_sheet(const char *path, const latlong *plots, int n, int cols)
+/* The picture's layout in pixels: plots in a grid under a title, each under
+ * its heading, with ticks below and (first column) to the left; the axes and
+ * the brightness scale explained at the foot. */
+enum { LEFT = 46, GAP = 44, RIGHT = 16, MIN_WIDTH = 620, TITLE_H = 34, HEAD_H = 38, TICKS_H = 24, FOOT_H = 44 };
+
+/* "circular", "e 1.6, medulla 0.6 x 0.6 at (-0.1, 0.1)": what sets a fiber apart. */
+static void describe(const plm_fiber_params *p, char *out, size_t size)
 {
-    const int gap = 4;
-    int w = plots[0].width, h = plots[0].height, rows = (n + cols - 1) / cols;
-    int sw = cols * w + (cols - 1) * gap, sh = rows * h + (rows - 1) * gap;
-    float *img = malloc((size_t)sw * (size_t)sh * 3 * sizeof(float));
-    if (!img) {
-        fprintf(stderr, "error: plumage probe bcsdf: out of memory for the picture\n");
-        return 0;
+    int n = p->eccentricity == 1.0 ? snprintf(out, size, "circular") : snprintf(out, size, "e %g", p->eccentricity);
+    if (p->medulla_a > 0.0 && (size_t)n < size)
+        n += snprintf(out + n, size - (size_t)n, ", medulla %g x %g", p->medulla_a, p->medulla_b);
+    if (p->medulla_a > 0.0 && (p->medulla_ca != 0.0 || p->medulla_cb != 0.0) && (size_t)n < size)
+        snprintf(out + n, size - (size_t)n, " at (%g, %g)", p->medulla_ca, p->medulla_cb);
+}
+
+static plm_result draw_labels(plm_image *img, const latlong *plots, const plm_fiber_params *params, int n, int cols,
+                              double theta, double phi, double peak, int figure7, plm_error *err)
+{
+    static const char *const phis[] = {"-180", "-90", "0", "90", "180"}, *const thetas[] = {"90", "45", "0", "-45", "-90"};
+    const float *ink = plm_figure_ink;
+    const int font = PLM_FIGURE_FONT, w = plots[0].width, h = plots[0].height, rows = (n + cols - 1) / cols;
+    char line[256], name[128];
+    snprintf(line, sizeof line, "Fiber scattering seen from theta %g, phi %g degrees%s", theta, phi,
+             figure7 ? " (the paper's Fig. 7)" : "");
+    plm_result rc = plm_image_draw_text(img, LEFT, 22, font + 2, line, ink, err);
+    for (int k = 0; k < n && rc == PLM_OK; ++k) {
+        int x0 = LEFT + (k % cols) * (w + GAP), y0 = TITLE_H + (k / cols) * (HEAD_H + h + TICKS_H);
+        describe(&params[k], name, sizeof name);
+        snprintf(line, sizeof line, "albedo %.2f %.2f %.2f", plots[k].albedo.r, plots[k].albedo.g, plots[k].albedo.b);
+        rc = plm_image_draw_text(img, x0, y0 + HEAD_H - 23, font, name, ink, err);
+        if (rc == PLM_OK)
+            rc = plm_image_draw_text(img, x0, y0 + HEAD_H - 7, font, line, ink, err);
+        if (rc == PLM_OK)
+            rc = plm_figure_axes(img, x0, y0 + HEAD_H, w, h, phis, 5, thetas, k % cols == 0 ? 5 : 0, err);
     }
+    int foot = TITLE_H + rows * (HEAD_H + h + TICKS_H);
+    if (rc == PLM_OK)
+        rc = plm_image_draw_text(img, LEFT, foot + 16, font,
+                                 "horizontal: outgoing azimuth phi; vertical: outgoing elevation theta (degrees)", ink, err);
+    snprintf(line, sizeof line, "brightness: reflectance per unit theta and phi, one scale for all, white = %.3g", peak);
+    if (rc == PLM_OK)
+        rc = plm_image_draw_text(img, LEFT, foot + 34, font, line, ink, err);
+    return rc;
+}
+
+/* The plots in a grid (cols wide), scaled so the brightest value of all is
+ * white, labelled, as an sRGB PNG. */
+static int write_picture(const char *path, const latlong *plots, const plm_fiber_params *params, int n, int cols,
+                         double theta, double phi, int figure7)
+{
+    int w = plots[0].width, h = plots[0].height, rows = (n + cols - 1) / cols;
+    int page_w = LEFT + cols * w + (cols - 1) * GAP + RIGHT, page_h = TITLE_H + rows * (HEAD_H + h + TICKS_H) + FOOT_H;
+    plm_image img = plm_figure_page(page_w < MIN_WIDTH ? MIN_WIDTH : page_w, page_h);
+    if (!img.pixels)
+        return 0;
     double peak = 0.0;
     for (int k = 0; k < n; ++k)
         for (int i = 0; i < w * h * 3; ++i)
             peak = fmax(peak, plots[k].values[i]);
-    for (size_t i = 0; i < (size_t)sw * (size_t)sh * 3; ++i)
-        img[i] = 1.0f;
     for (int k = 0; k < n; ++k) {
-        int ox = (k % cols) * (w + gap), oy = (k / cols) * (h + gap);
+        int ox = LEFT + (k % cols) * (w + GAP), oy = TITLE_H + (k / cols) * (HEAD_H + h + TICKS_H) + HEAD_H;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
                 for (int c = 0; c < 3; ++c)
-                    img[3 * ((size_t)(oy + y) * sw + ox + x) + c] =
+                    img.pixels[3 * ((size_t)(oy + y) * (size_t)img.width + (size_t)(ox + x)) + c] =
                         peak > 0.0 ? (float)(plots[k].values[3 * (y * w + x) + c] / peak) : 0.0f;
     }
     plm_error err;
-    plm_result r = plm_image_write_srgb_png(path, sw, sh, img, 0.0, &err);
-    free(img);
-    if (r != PLM_OK) {
+    int ok = draw_labels(&img, plots, params, n, cols, theta, phi, peak, figure7, &err) == PLM_OK &&
+             plm_image_write_srgb_png(path, img.width, img.height, img.pixels, 0.0, &err) == PLM_OK;
+    if (!ok)
         fprintf(stderr, "error: plumage probe bcsdf: %s\n", err.message);
-        return 0;
-    }
-    return 1;
-}
-
-static char *join(char *buf, size_t size, const char *dir, const char *name, const char *ext)
-{
-    snprintf(buf, size, "%s/%s.%s", dir, name, ext);
-    return buf;
+    free(img.pixels);
+    return ok;
 }
 
 int probe_bcsdf(int argc, char **argv)
 {
     static const plm_command_help help = {
-        "plumage probe bcsdf [fiber options] [--theta DEG] [--phi DEG] --out DIR\n"
-        "       plumage probe bcsdf --figure7 --out DIR",
+        "plumage probe bcsdf [fiber options] [--theta DEG] [--phi DEG] -o FILE.png [--csv FILE.csv]\n"
+        "       plumage probe bcsdf --figure7 -o FILE.png [--csv FILE.csv]",
         "Lat-long reflectance plot of the fiber BCSDF for light traced from the direction (--theta,\n"
         "--phi) (the view side; the plot is over the other direction: phi from -180 at the left to 180,\n"
         "theta from 90 at the top to -90). Pixel value: the mean over --sets lobe sets of\n"
         "eval(wi) cos^2(theta_i), reflectance per unit dtheta dphi, so the plot integrates to the albedo.\n"
-        "Writes DIR/bcsdf.png (RGB, sRGB, scaled so the brightest value is white) and DIR/bcsdf.csv\n"
-        "(theta_deg,phi_deg,value_r,value_g,value_b), and prints the directional albedo per channel.\n"
+        "Writes the labelled plot to -o (sRGB PNG, scaled so the brightest value is white; the albedo per\n"
+        "channel in its heading) and prints the albedos as CSV on stdout. --csv also writes every plotted value\n"
+        "(fiber,theta_deg,phi_deg,value_r,value_g,value_b; about 5 MB per plot at the default width).\n"
         "--figure7 instead renders the paper's Fig. 7 fibers at theta 45, phi 0 (circular; elliptical\n"
-        "e = 1.6; concentric medulla r = 0.6; medulla at (-0.1, 0.1)) into the contact sheet\n"
-        "DIR/figure7.png (2 x 2 in that order, one brightness scale) and DIR/figure7_<name>.csv."};
+        "e = 1.6; concentric medulla r = 0.6; medulla at (-0.1, 0.1)), 2 x 2 in that order on one brightness\n"
+        "scale."};
     plm_fiber_cli fc;
-    enum { N_EXTRA = 7 };
+    enum { N_EXTRA = 8 };
     plm_option opts[PLM_FIBER_CLI_OPTIONS + N_EXTRA];
     plm_fiber_cli_options(&fc, opts, PLM_FIBER_SET_MAX_LOBES);
     double theta = 45.0, phi = 0.0;
     int sets = 4000, width = 360, seed = 1, figure7 = 0;
-    const char *out_dir = NULL;
+    const char *out = NULL, *csv = NULL;
     const plm_option extra[N_EXTRA] = {
         {"--theta", PLM_OPT_DOUBLE, &theta, 1, -89.9, 89.9, NULL, "DEG", "theta of the traced direction; default 45", 0},
         {"--phi", PLM_OPT_DOUBLE, &phi, 1, -360, 360, NULL, "DEG", "phi of the traced direction; default 0", 0},
@@ -162,14 +204,16 @@ int probe_bcsdf(int argc, char **argv)
         {"--width", PLM_OPT_INT, &width, 1, 8, 4096, NULL, "W", "plot width in pixels (height W/2); default 360", 0},
         {"--seed", PLM_OPT_INT, &seed, 1, 0, 2147483647, NULL, "N", "random seed; default 1", 0},
         {"--figure7", PLM_OPT_FLAG, &figure7, 0, 0, 0, NULL, NULL, "render the four Fig. 7 fibers (fiber options unused)", 0},
-        {"--out", PLM_OPT_STRING, &out_dir, 0, 0, 0, NULL, "DIR", "output directory (created); required", 0},
+        {"-o", PLM_OPT_STRING, &out, 0, 0, 0, NULL, "FILE.png", "the picture (its folder is created if missing); required",
+         0},
+        {"--csv", PLM_OPT_STRING, &csv, 0, 0, 0, NULL, "FILE.csv", "also every plotted value, as CSV", 0},
     };
     memcpy(opts + PLM_FIBER_CLI_OPTIONS, extra, sizeof extra);
     int rc = plm_parse_options(&help, argc, argv, 1, opts, PLM_FIBER_CLI_OPTIONS + N_EXTRA, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
-    if (!out_dir) {
-        fprintf(stderr, "error: plumage probe bcsdf: --out DIR is required\n");
+    if (!out) {
+        fprintf(stderr, "error: plumage probe bcsdf: -o FILE.png is required\n");
         return 2;
     }
     if (width % 2) {
@@ -189,10 +233,10 @@ int probe_bcsdf(int argc, char **argv)
     } else if (!plm_fiber_cli_params(&fc, "plumage probe bcsdf", &params[0])) {
         return 2;
     }
-    plm_error err;
-    if (plm_make_dirs(out_dir, &err) != PLM_OK) {
-        fprintf(stderr, "error: plumage probe bcsdf: --out: %s\n", err.message);
-        return 2;
+    plm_outputs outputs = {0};
+    if (!plm_outputs_file(&outputs, "-o", out) || (csv && !plm_outputs_file(&outputs, "--csv", csv))) {
+        plm_outputs_undo(&outputs);
+        return 1;
     }
     latlong plots[4];
     memset(plots, 0, sizeof plots);
@@ -203,19 +247,17 @@ int probe_bcsdf(int argc, char **argv)
         plots[k].height = width / 2;
         ok = render_latlong(&params[k], wo, sets, (uint64_t)seed, &plots[k]);
     }
-    char path[4200], name[64];
-    for (int k = 0; k < n && ok; ++k) {
-        snprintf(name, sizeof name, figure7 ? "figure7_%s" : "bcsdf", plm_fiber_figure7_names[k]);
-        ok = write_csv(join(path, sizeof path, out_dir, name, "csv"), &plots[k]);
-    }
-    if (ok)
-        ok = write_sheet(join(path, sizeof path, out_dir, figure7 ? "figure7" : "bcsdf", "png"), plots, n,
-                         figure7 ? 2 : 1);
+    const char *const *names = figure7 ? plm_fiber_figure7_names : (const char *const[]){"bcsdf"};
+    ok = ok && write_picture(out, plots, params, n, figure7 ? 2 : 1, theta, phi, figure7);
+    ok = ok && (!csv || write_csv(csv, plots, names, n));
     if (ok) {
         printf("fiber,albedo_r,albedo_g,albedo_b\n");
         for (int k = 0; k < n; ++k)
-            printf("%s,%.6f,%.6f,%.6f\n", figure7 ? plm_fiber_figure7_names[k] : "bcsdf", plots[k].albedo.r, plots[k].albedo.g,
-                   plots[k].albedo.b);
+            printf("%s,%.6f,%.6f,%.6f\n", names[k], plots[k].albedo.r, plots[k].albedo.g, plots[k].albedo.b);
+        fflush(stdout);
+        plm_print_wrote((const char *const[]){out, csv}, 2);
+    } else {
+        plm_outputs_undo(&outputs);
     }
     for (int k = 0; k < n; ++k)
         free(plots[k].values);

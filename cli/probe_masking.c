@@ -7,8 +7,11 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "cli/figure.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "common/image_io.h"
+#include "common/progress.h"
 #include "optics/masking.h"
 #include "render/masking_reference.h"
 
@@ -19,14 +22,14 @@ static const char *const reference_names[] = {"none", "monte-carlo", NULL};
 enum {
     OPT_BARB_E, OPT_BARBULE_E, OPT_LENGTH, OPT_SEPARATION, OPT_ROTATION, OPT_INCLINATION,
     OPT_T_PROXIMAL, OPT_T_DISTAL, OPT_LEVEL, OPT_REFERENCE, OPT_SAMPLES, OPT_SEED,
-    OPT_FIGURE, OPT_FIGURE9, OPT_WIDTH, OPT_COUNT
+    OPT_FIGURE, OPT_FIGURE9, OPT_OUTPUT, OPT_WIDTH, OPT_COUNT
 };
 
 typedef struct probe_args {
     double barb_e, barbule_e, length, separation, rotation_deg, inclination_deg;
     double t_proximal, t_distal;
-    int level, reference, samples, seed, width;
-    const char *figure, *figure9;
+    int level, reference, samples, seed, width, figure, figure9;
+    const char *output;
 } probe_args;
 
 /* Which options each mode accepts (docs/masking.md lists them per level). */
@@ -41,7 +44,7 @@ static int option_allowed(int opt, const probe_args *a)
     case OPT_T_PROXIMAL: case OPT_T_DISTAL: return a->level == LEVEL_BARB;
     case OPT_REFERENCE: return a->level == LEVEL_FULL && !picture;
     case OPT_SAMPLES: case OPT_SEED: return a->reference || picture;
-    case OPT_WIDTH: return picture;
+    case OPT_WIDTH: case OPT_OUTPUT: return picture;
     case OPT_FIGURE: case OPT_FIGURE9: return a->level == LEVEL_FULL && !(a->figure && a->figure9);
     default: return 1;
     }
@@ -148,49 +151,20 @@ static int run_stdin(const probe_args *a, const plm_masking_params *p, plm_maski
  * from below the vane). Each parameter set is one row: the analytic masking
  * left, rays against explicit 3D geometry right. Sizes are pixels. */
 enum {
-    FONT = 13, FONT_SMALL = 11,
+    FONT = PLM_FIGURE_FONT,
     LEFT = 46, GAP = 30, RIGHT = 16, MIN_WIDTH = 600, /* panels' margins; the labels need MIN_WIDTH */
     TITLE_H = 52, SET_H = 24, TICKS_H = 22, FOOT_H = 92
 };
 
-static const float ink[3] = {0.0f, 0.0f, 0.0f};
+static const float *const ink = plm_figure_ink;
 
-/* About the width of text in DejaVu Sans at `size` px, to centre tick labels. */
-static int text_width(const char *text, int size)
-{
-    int glyphs = 0;
-    for (const char *c = text; *c; ++c)
-        glyphs += ((unsigned char)*c & 0xc0) != 0x80; /* UTF-8 lead bytes */
-    return (int)(0.6 * size * glyphs);
-}
-
-static void fill(plm_image *img, int x0, int y0, int w, int h, const float c[3])
-{
-    for (int y = y0; y < y0 + h; ++y)
-        for (int x = x0; x < x0 + w; ++x)
-            for (int k = 0; k < 3; ++k)
-                img->pixels[3 * ((size_t)y * (size_t)img->width + (size_t)x) + k] = c[k];
-}
-
-/* Ticks and tick labels every 90 degrees of azimuth below the panel at
- * (x0, y0), and every 45 degrees of polar angle to its left. */
+/* Ticks every 90 degrees of azimuth below the panel at (x0, y0), and every
+ * 45 degrees of polar angle to its left (the left panel's only). */
 static plm_result panel_axes(plm_image *img, int x0, int y0, int w, int h, int polar_labels, plm_error *err)
 {
     static const char *const azimuth[] = {"0", "90", "180", "270", "360"};
     static const char *const polar[] = {"0", "45", "90", "135", "180"};
-    plm_result rc = PLM_OK;
-    for (int i = 0; i <= 4 && rc == PLM_OK; ++i) {
-        int x = x0 + (w - 1) * i / 4, y = y0 + (h - 1) * i / 4;
-        fill(img, x, y0 + h, 1, 4, ink);
-        rc = plm_image_draw_text(img, x - text_width(azimuth[i], FONT_SMALL) / 2, y0 + h + 5 + FONT_SMALL,
-                                 FONT_SMALL, azimuth[i], ink, err);
-        if (rc == PLM_OK && polar_labels) {
-            fill(img, x0 - 4, y, 4, 1, ink);
-            rc = plm_image_draw_text(img, x0 - 7 - text_width(polar[i], FONT_SMALL), y + FONT_SMALL / 3, FONT_SMALL,
-                                     polar[i], ink, err);
-        }
-    }
-    return rc;
+    return plm_figure_axes(img, x0, y0, w, h, azimuth, 5, polar, polar_labels ? 5 : 0, err);
 }
 
 /* Title, column headings, each set's parameters, the axes and the legend. */
@@ -223,21 +197,16 @@ static plm_result figure_labels(plm_image *img, const plm_masking_params *sets, 
         rc = plm_image_draw_text(img, LEFT, foot + 34, FONT,
                                  "vertical: view angle in degrees from n (0, above the vane) to -n (180, below)", ink, err);
     /* The legend: the weights are added as colours; black is what passes. */
-    static const struct { float c[3]; const char *name; } keys[] = {
-        {{1, 0, 0}, "distal barbules"}, {{0, 1, 0}, "proximal barbules"}, {{0, 0, 1}, "barb"},
-        {{0, 0, 0}, "transmission"}};
-    int x = LEFT;
-    for (int i = 0; i < 4 && rc == PLM_OK; ++i) {
-        fill(img, x, foot + 52, 14, 14, keys[i].c);
-        rc = plm_image_draw_text(img, x + 20, foot + 64, FONT, keys[i].name, ink, err);
-        x += 20 + text_width(keys[i].name, FONT) + 22;
-    }
+    static const float colors[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 0}};
+    static const char *const names[4] = {"distal barbules", "proximal barbules", "barb", "transmission"};
+    if (rc == PLM_OK)
+        rc = plm_figure_legend(img, LEFT, foot + 52, colors, names, 4, err);
     return rc;
 }
 
 /* Fills one set's two panels at (x0, y0) and (x1, y0): analytic and rays. */
 static int figure_panels(plm_image *img, const plm_masking_params *p, int x0, int x1, int y0, int width, int height,
-                         int samples, uint64_t seed, int set, int n_sets)
+                         int samples, uint64_t seed, int set, int n_sets, plm_progress *progress)
 {
     plm_error err;
     plm_masking_reference *ref = NULL;
@@ -261,13 +230,13 @@ static int figure_panels(plm_image *img, const plm_masking_params *p, int x0, in
             }
             for (int side = 0; side < 2; ++side) {
                 float c[3] = {(float)m[side].w_distal, (float)m[side].w_proximal, (float)m[side].w_barb};
-                fill(img, (side ? x1 : x0) + col, y0 + row, 1, 1, c);
+                plm_figure_fill(img, (side ? x1 : x0) + col, y0 + row, 1, 1, c);
             }
         }
-        if ((row + 1) % 10 == 0 || row + 1 == height)
-            fprintf(stderr, "\rfigure: parameter set %d of %d, row %d of %d", set + 1, n_sets, row + 1, height);
+        char detail[64];
+        snprintf(detail, sizeof detail, "parameter set %d of %d", set + 1, n_sets);
+        plm_progress_update(progress, (set * height + row + 1.0) / (n_sets * height), detail);
     }
-    fprintf(stderr, "\n");
     plm_masking_reference_destroy(ref);
     return status;
 }
@@ -279,17 +248,17 @@ static int write_figure(const char *path, const plm_masking_params *sets, int n_
     int img_w = LEFT + 2 * width + GAP + RIGHT;
     img_w = img_w < MIN_WIDTH ? MIN_WIDTH : img_w;
     int img_h = TITLE_H + n_sets * (SET_H + height + TICKS_H) + FOOT_H;
-    plm_image img = {img_w, img_h, 3, calloc((size_t)img_w * (size_t)img_h * 3, sizeof(float))};
-    if (!img.pixels) {
-        fprintf(stderr, "error: out of memory for the figure\n");
+    plm_image img = plm_figure_page(img_w, img_h);
+    if (!img.pixels)
         return 1;
-    }
-    const float white[3] = {1.0f, 1.0f, 1.0f};
-    fill(&img, 0, 0, img_w, img_h, white);
     int status = 0;
+    plm_progress progress;
+    plm_progress_start(&progress, "figure");
     for (int k = 0; k < n_sets && status == 0; ++k)
         status = figure_panels(&img, &sets[k], LEFT, LEFT + width + GAP, TITLE_H + k * (SET_H + height + TICKS_H) + SET_H,
-                               width, height, samples, seed, k, n_sets);
+                               width, height, samples, seed, k, n_sets, &progress);
+    if (status == 0)
+        plm_progress_finish(&progress, 1.0, NULL);
     plm_error err;
     if (status == 0 && (figure_labels(&img, sets, n_sets, width, height, samples, &err) != PLM_OK ||
                         plm_image_write_srgb_png(path, img_w, img_h, img.pixels, 0.0, &err) != PLM_OK)) {
@@ -320,7 +289,7 @@ static int write_figure9(const char *path, int width, int samples, uint64_t seed
 
 int probe_masking(int argc, char **argv)
 {
-    probe_args a = {1.0, 1.0, 1.0, 1.0, 45.0, 0.0, 0.0, 0.0, LEVEL_FULL, 0, 4096, 1, 240, NULL, NULL};
+    probe_args a = {1.0, 1.0, 1.0, 1.0, 45.0, 0.0, 0.0, 0.0, LEVEL_FULL, 0, 4096, 1, 240, 0, 0, NULL};
     plm_option opts[OPT_COUNT] = {
         [OPT_BARB_E] = {"--barb-eccentricity", PLM_OPT_DOUBLE, &a.barb_e, 0, 1e-6, 20, NULL, "E",
                         "barb extent along n / along b (default 1)", 0},
@@ -347,10 +316,12 @@ int probe_masking(int argc, char **argv)
                          "rays per direction for the Monte Carlo reference (default 4096; 256 for pictures)", 0},
         [OPT_SEED] = {"--seed", PLM_OPT_INT, &a.seed, 0, 0, 2147483647, NULL, "N",
                       "random seed of the Monte Carlo reference (default 1)", 0},
-        [OPT_FIGURE] = {"--figure", PLM_OPT_STRING, &a.figure, 0, 0, 0, NULL, "FILE.png",
-                        "write a Fig. 9-style picture of these parameters (no stdin)", 0},
-        [OPT_FIGURE9] = {"--figure9", PLM_OPT_STRING, &a.figure9, 0, 0, 0, NULL, "FILE.png",
-                         "write the paper's Fig. 9: both of its parameter sets (no stdin)", 0},
+        [OPT_FIGURE] = {"--figure", PLM_OPT_FLAG, &a.figure, 0, 0, 0, NULL, NULL,
+                        "a Fig. 9-style picture of these parameters into -o (no stdin)", 0},
+        [OPT_FIGURE9] = {"--figure9", PLM_OPT_FLAG, &a.figure9, 0, 0, 0, NULL, NULL,
+                         "the paper's Fig. 9, both of its parameter sets, into -o (no stdin)", 0},
+        [OPT_OUTPUT] = {"-o", PLM_OPT_STRING, &a.output, 0, 0, 0, NULL, "FILE.png",
+                        "with --figure or --figure9: the picture (its folder is created if missing)", 0},
         [OPT_WIDTH] = {"--width", PLM_OPT_INT, &a.width, 0, 8, 4096, NULL, "PIXELS",
                        "width of each picture panel; height is half (default 240)", 0},
     };
@@ -372,8 +343,8 @@ int probe_masking(int argc, char **argv)
         "--level barbule: stdin 'dx dy' in a barbule row's cross-section; stdout dx,dy,transmittance,hmin,hmax.\n"
         "--level barb: stdin 'dx dy' in the barb cross-section; stdout dx,dy,w_barb,w_proximal,w_distal,\n"
         "  w_transmission,barb_ranges.\n"
-        "--figure / --figure9 write a labelled PNG instead (barb, proximal, distal weights as blue, green, red\n"
-        "  over view azimuth and polar angle; analytic left, Monte Carlo right)."};
+        "--figure / --figure9 -o FILE.png write a labelled PNG instead (barb, proximal, distal weights as blue,\n"
+        "  green, red over view azimuth and polar angle; analytic left, Monte Carlo right)."};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, OPT_COUNT, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
@@ -395,12 +366,24 @@ int probe_masking(int argc, char **argv)
         fprintf(stderr, "error: plumage probe masking: %s\n", err.message);
         return 2;
     }
+    if ((a.figure || a.figure9) && !a.output) {
+        fprintf(stderr, "error: plumage probe masking: %s needs -o FILE.png\n", a.figure ? "--figure" : "--figure9");
+        return 2;
+    }
     if ((a.figure || a.figure9) && !opts[OPT_SAMPLES].seen)
         a.samples = 256; /* a picture has many directions; its noise is seen, not measured */
-    if (a.figure9)
-        return write_figure9(a.figure9, a.width, a.samples, (uint64_t)a.seed);
-    if (a.figure)
-        return write_figure(a.figure, &p, 1, a.width, a.samples, (uint64_t)a.seed);
+    if (a.figure || a.figure9) {
+        plm_outputs outputs = {0};
+        if (!plm_outputs_file(&outputs, "-o", a.output))
+            return 1;
+        int status = a.figure9 ? write_figure9(a.output, a.width, a.samples, (uint64_t)a.seed)
+                               : write_figure(a.output, &p, 1, a.width, a.samples, (uint64_t)a.seed);
+        if (status)
+            plm_outputs_undo(&outputs);
+        else
+            plm_print_wrote((const char *const[]){a.output}, 1);
+        return status;
+    }
     plm_masking_reference *ref = NULL;
     if (a.reference && plm_masking_reference_create(&p, NULL, &ref, &err) != PLM_OK) {
         fprintf(stderr, "error: plumage probe masking: %s\n", err.message);

@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "common/fileio.h"
 #include "common/image_io.h"
 #include "common/rng.h"
@@ -188,5 +189,17 @@ int probe_visibility(int argc, char **argv)
         fprintf(stderr, "error: --resolution: '%s' must be WxH, each a whole number in [1, 16384]\n", a.resolution);
         return 2;
     }
-    return run(&a, positional[0]);
+    plm_outputs outputs = {0}; /* checked before the scene is read */
+    if ((a.csv && !plm_outputs_file(&outputs, "--csv", a.csv)) || (a.ids && !plm_outputs_file(&outputs, "--ids", a.ids))) {
+        plm_outputs_undo(&outputs);
+        return 1;
+    }
+    int status = run(&a, positional[0]);
+    if (status)
+        plm_outputs_undo(&outputs);
+    else if (a.csv || a.ids) {
+        fflush(stdout);
+        plm_print_wrote((const char *const[]){a.csv, a.ids}, 2);
+    }
+    return status;
 }

@@ -8,6 +8,7 @@
 #include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/outputs.h"
 #include "cli/render_job.h"
 #include "common/fileio.h"
 #include "common/image_io.h"
@@ -122,6 +123,16 @@ int plm_render_job_run(plm_render_job *job)
         scene.film.height = job->height;
     }
     choose_outputs(job, &scene.film);
+    /* The film may name the outputs: checked here, before the render (`plumage render` checked -o and --exr
+     * before the scene was read). */
+    plm_outputs outputs = {0};
+    if ((job->png[0] && !plm_outputs_file(&outputs, "film.png", job->png)) ||
+        (job->exr[0] && !plm_outputs_file(&outputs, "film.exr", job->exr))) {
+        plm_outputs_undo(&outputs);
+        plm_scene_free(&scene);
+        snprintf(job->error, sizeof job->error, "cannot write the outputs (see above)");
+        return 1;
+    }
     plm_render_options ro = {0};
     ro.threads = job->threads;
     ro.spp = job->spp;
@@ -133,6 +144,7 @@ int plm_render_job_run(plm_render_job *job)
     plm_film film;
     double t1 = plm_bench_seconds();
     if (plm_render(&scene, &ro, &film, &err) != PLM_OK) {
+        plm_outputs_undo(&outputs);
         plm_scene_free(&scene);
         return job_failed(job, &err);
     }
@@ -160,10 +172,9 @@ int plm_render_job_run(plm_render_job *job)
     job->nonfinite = film.nonfinite;
     job->interrupted = film.interrupted;
     job->used_threads = film.threads;
-    fprintf(stderr, "%s%dx%d, %lld samples in %.2f s on %d threads (%.0f samples/s/thread), %s%s%s%s%s\n",
+    fprintf(stderr, "%s%dx%d, %lld samples in %.2f s on %d threads (%.0f samples/s/thread)\n",
             film.interrupted ? "interrupted: " : "", film.width, film.height, film.sample_count, film.seconds,
-            film.threads, film.seconds > 0 ? film.sample_count / film.seconds / film.threads : 0.0,
-            status ? "not written:" : "wrote", job->png[0] ? " " : "", job->png, job->exr[0] ? " " : "", job->exr);
+            film.threads, film.seconds > 0 ? film.sample_count / film.seconds / film.threads : 0.0);
     if (film.nonfinite)
         fprintf(stderr, "warning: %lld non-finite samples were dropped (counted as black)\n", film.nonfinite);
     else
@@ -171,6 +182,12 @@ int plm_render_job_run(plm_render_job *job)
     job_memory(job, library_before > 0.0);
     fprintf(stderr, "memory: peak %.1f MiB: %.1f at the start, %.1f the image library, %.1f the scene and its "
             "render\n", job->peak_mib, job->before_mib, job->image_library_mib, job->scene_mib);
+    if (status) {
+        fprintf(stderr, "not written: %s %s\n", job->png, job->exr);
+        plm_outputs_undo(&outputs);
+    } else if (job->png[0] || job->exr[0]) {
+        plm_print_wrote((const char *const[]){job->png, job->exr}, 2);
+    }
     plm_film_free(&film);
     plm_scene_free(&scene);
     return status ? status : (job->interrupted ? 130 : 0);
@@ -213,7 +230,14 @@ int cmd_render(int argc, char **argv)
         "Renders a scene file (fields: docs/scene-format.md) with a path tracer: next-event estimation,\n"
         "multiple importance sampling, Russian roulette, feathers' delta transmission as fractional visibility.\n"
         "Writes a linear EXR and a tone-mapped sRGB PNG, atomically. Ctrl-C stops early and writes the image\n"
-        "rendered so far; the same scene, seed and spp give the same image at any thread count."};
+        "rendered so far; the same scene, seed and spp give the same image at any thread count.\n"
+        "--set PATH=VALUE changes the scene file before it is read. PATH is the fields' names joined by dots, a\n"
+        "number picking an array element from 0; VALUE is JSON, or else a string. A path value (a species, a mesh,\n"
+        "a texture) is read from the scene file's folder, as if written in the file:\n"
+        "  plumage render presets/scenes/pelt_82.json --set camera.fov=30 --set 'lights.1.irradiance=[4,4,4]'\n"
+        "  plumage render presets/scenes/pelt_82.json --set objects.0.layout.species.0=../species/remex_pigeon.json\n"
+        "(the first object's layout's first species; ../species/ from presets/scenes/). Output folders are created\n"
+        "if missing and checked before any work; the last line names the files written."};
     const char *positional[1];
     int n_positional = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, n_opts, positional, 1, &n_positional);
@@ -247,6 +271,11 @@ int cmd_render(int argc, char **argv)
         snprintf(job.png, sizeof job.png, "%s", png ? png : "");
         snprintf(job.exr, sizeof job.exr, "%s", exr ? exr : "");
     }
+    plm_outputs outputs = {0}; /* given ones: checked before the scene is read */
+    if ((png && !plm_outputs_file(&outputs, "-o", png)) || (exr && !plm_outputs_file(&outputs, "--exr", exr))) {
+        plm_outputs_undo(&outputs);
+        return 1;
+    }
     job.cancel = &interrupted;
     struct sigaction sa, old;
     memset(&sa, 0, sizeof sa);
@@ -255,5 +284,7 @@ int cmd_render(int argc, char **argv)
     sigaction(SIGINT, &sa, &old);
     int status = plm_render_job_run(&job);
     sigaction(SIGINT, &old, NULL);
+    if (status == 1)
+        plm_outputs_undo(&outputs);
     return status;
 }

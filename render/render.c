@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "common/image_io.h"
+#include "common/progress.h"
 
 #define TILE 16
 #define MAX_PASS_SAMPLES 16
@@ -128,20 +129,14 @@ static void *worker(void *arg)
     return NULL;
 }
 
-static void draw_progress(job *j, double elapsed, int final)
+static void draw_progress(job *j, plm_progress *progress, double elapsed, int final)
 {
     long long total = (long long)j->film->width * j->film->height * j->spp;
     long long done = atomic_load(&j->samples_done);
     double fraction = total ? (double)done / total : 1.0, rate = elapsed > 0 ? done / elapsed : 0.0;
-    double left = rate > 0 ? (total - done) / rate : 0.0;
-    char bar[31];
-    int filled = (int)(fraction * 30);
-    for (int i = 0; i < 30; ++i)
-        bar[i] = i < filled ? '#' : '.';
-    bar[30] = '\0';
-    fprintf(stderr, "\r[%s] %5.1f%%  %.3g samples/s  %.0f s left   %s", bar, 100.0 * fraction, rate, left,
-            final ? "\n" : "");
-    fflush(stderr);
+    char detail[48];
+    snprintf(detail, sizeof detail, "%.3g samples/s", rate);
+    (final ? plm_progress_finish : plm_progress_update)(progress, fraction, detail);
 }
 
 static int default_threads(void)
@@ -191,6 +186,9 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
 
     /* Start the threads, then size the barrier to those that did start and open the gate. */
     double t0 = now_seconds(), last_draw = t0;
+    plm_progress progress;
+    if (opt->progress)
+        plm_progress_start(&progress, "render");
     int started = 0;
     for (; started < film->threads; ++started)
         if (pthread_create(&threads[started], NULL, worker, j) != 0)
@@ -208,7 +206,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
         nanosleep(&nap, NULL);
         double t = now_seconds();
         if (opt->progress && t - last_draw >= 0.25) {
-            draw_progress(j, t - t0, 0);
+            draw_progress(j, &progress, t - t0, 0);
             last_draw = t;
         }
     }
@@ -216,7 +214,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
         pthread_join(threads[i], NULL);
     film->seconds = now_seconds() - t0;
     if (opt->progress)
-        draw_progress(j, film->seconds, 1);
+        draw_progress(j, &progress, film->seconds, 1);
     pthread_barrier_destroy(&j->barrier);
     pthread_cond_destroy(&j->gate);
     pthread_mutex_destroy(&j->gate_lock);

@@ -57,26 +57,38 @@ for input in "45 0\n" "45 0 0 1\n" "45 x 0\n" "90 0 0\n" "-91 0 0\n" "45 0 1.5\n
     check "bad line '$input' names line 2" grep -q "line 2" err.txt
     check "bad line '$input' leaves no partial output" test ! -s out.txt
 done
-# probe bcsdf: PNG + CSV written, albedo printed, and the plot integrates to that albedo.
+# probe bcsdf: the labelled PNG (and the CSV when asked) written, albedo printed, and the plot integrates to
+# that albedo.
 expect_ok "bcsdf help" "$PLUMAGE" probe bcsdf --help
-"$PLUMAGE" probe bcsdf --out plot --width 64 --sets 200 --eccentricity 1.6 --sigma-a 0.1,0.5,1 >out.txt 2>err.txt
+"$PLUMAGE" probe bcsdf -o plot/bcsdf.png --csv plot/values.csv --width 64 --sets 200 --eccentricity 1.6 \
+    --sigma-a 0.1,0.5,1 >out.txt 2>err.txt
 check "bcsdf succeeds" test $? -eq 0
-expect_image "bcsdf writes the PNG" 64 32 plot/bcsdf.png
-check "bcsdf CSV has one row per pixel" test "$(tail -n +2 plot/bcsdf.csv | wc -l)" -eq $((64 * 32))
+# the plot under a 34-pixel title and a 38-pixel heading, ticks and 46 pixels to its left, the foot
+# below: a page of at least 620 x (34 + 38 + 32 + 24 + 44)
+expect_image "bcsdf writes the labelled PNG" 620 172 plot/bcsdf.png
+check "bcsdf's last line says where" test "$(tail -n 1 err.txt)" = "wrote plot/bcsdf.png plot/values.csv"
+check "bcsdf CSV has one row per pixel" test "$(tail -n +2 plot/values.csv | wc -l)" -eq $((64 * 32))
 check "bcsdf prints the albedo" grep -Eq "^bcsdf,0\.[0-9]+,0\.[0-9]+,0\.[0-9]+$" out.txt
-integral=$(awk -F, 'NR > 1 { r += $3 } END { printf "%.5f", r * (3.14159265358979 / 32) * (6.28318530717959 / 64) }' plot/bcsdf.csv)
+integral=$(awk -F, 'NR > 1 { r += $4 } END { printf "%.5f", r * (3.14159265358979 / 32) * (6.28318530717959 / 64) }' plot/values.csv)
 albedo=$(awk -F, '/^bcsdf,/ { printf "%.5f", $2 }' out.txt)
 check "plot integrates to the albedo ($integral vs $albedo)" awk -v a="$integral" -v b="$albedo" 'BEGIN { exit !(a - b < 1e-3 && b - a < 1e-3 && b > 0.3) }'
-"$PLUMAGE" probe bcsdf --figure7 --out fig --width 32 --sets 50 >out.txt 2>err.txt
+"$PLUMAGE" probe bcsdf --figure7 -o fig/figure7.png --width 32 --sets 50 >out.txt 2>err.txt
 check "figure7 succeeds" test $? -eq 0
-expect_image "figure7 contact sheet" "[0-9]+" "[0-9]+" fig/figure7.png
-check "figure7 CSVs" test -s fig/figure7_circular.csv -a -s fig/figure7_offcentre_medulla.csv
+# 2 x 2 plots of 32 x 16, 44 apart: the page's minimum width, 34 + 2 x (38 + 16 + 24) + 44 high
+expect_image "figure7 contact sheet" 620 234 fig/figure7.png
+check "figure7 writes no CSV unasked" test "$(ls fig)" = figure7.png
 check "figure7 albedo rows" test "$(grep -c '_medulla,\|^circular,\|^elliptical,' out.txt)" -eq 4
-expect_stderr "bcsdf needs --out" "--out DIR is required" "$PLUMAGE" probe bcsdf
-expect_stderr "bcsdf odd width" "--width 33 must be even" "$PLUMAGE" probe bcsdf --out x --width 33
-expect_stderr "figure7 takes no fiber options" "--eta cannot be combined with --figure7" "$PLUMAGE" probe bcsdf --figure7 --eta 1.3 --out x
-expect_stderr "bcsdf lobes range" "--lobes.*\[1, 32\]" "$PLUMAGE" probe bcsdf --lobes 33 --out x
-expect_stderr "bcsdf theta range" "--theta.*\[-89.9, 89.9\]" "$PLUMAGE" probe bcsdf --theta 90 --out x
-expect_stderr "bcsdf bad medulla" "strictly inside" "$PLUMAGE" probe bcsdf --medulla-axes 1,1 --out x
-check "failed runs write nothing" test ! -e x/bcsdf.png -a ! -e x/bcsdf.csv
+# Labelled as Fig. 9 is: a title, each fiber's heading, ticks, the axes and the brightness scale explained.
+expect_label "figure7 title" fig/figure7.png "570x24+46+4" 0 18 15 1,1,1 0,0,0 \
+    "Fiber scattering seen from theta 45, phi 0 degrees (the paper's Fig. 7)"
+expect_label "figure7 heading" fig/figure7.png "70x18+46+34" 0 15 13 1,1,1 0,0,0 "circular"
+expect_label "figure7 axis caption" fig/figure7.png "560x20+46+190" 0 16 13 1,1,1 0,0,0 \
+    "horizontal: outgoing azimuth phi; vertical: outgoing elevation theta (degrees)"
+expect_stderr "bcsdf needs -o" "-o FILE.png is required" "$PLUMAGE" probe bcsdf
+expect_stderr "bcsdf odd width" "--width 33 must be even" "$PLUMAGE" probe bcsdf -o x/b.png --width 33
+expect_stderr "figure7 takes no fiber options" "--eta cannot be combined with --figure7" "$PLUMAGE" probe bcsdf --figure7 --eta 1.3 -o x/f.png
+expect_stderr "bcsdf lobes range" "--lobes.*\[1, 32\]" "$PLUMAGE" probe bcsdf --lobes 33 -o x/b.png
+expect_stderr "bcsdf theta range" "--theta.*\[-89.9, 89.9\]" "$PLUMAGE" probe bcsdf --theta 90 -o x/b.png
+expect_stderr "bcsdf bad medulla" "strictly inside" "$PLUMAGE" probe bcsdf --medulla-axes 1,1 -o x/b.png
+check "failed runs write nothing" test ! -e x
 finish

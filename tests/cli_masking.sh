@@ -22,8 +22,10 @@ expect_output "barb level with transmittances" '^0,1,0.5,0.125,0.125,0.25,-1:1:0
 expect_output "three lines in, three rows out" '^3$' sh -c "printf '0 1 0\n1 1 0\n0 -1 1\n' | '$PLUMAGE' probe masking | tail -n +2 | wc -l"
 expect_output "monte carlo reference" '^0,1,0,0\.(48|49|50|51)[0-9]*,0\.1[1-3][0-9]*,0\.1[1-3][0-9]*,0\.2[3-6]' \
     with_stdin "0 1 0\n" M --reference monte-carlo --samples 4096 --seed 3
-expect_ok "figure" M --figure fig.png --width 16 --samples 16
-expect_ok "figure9" M --figure9 fig9.png --width 8 --samples 16
+expect_ok "figure" M --figure -o fig.png --width 16 --samples 16
+expect_ok "figure9" M --figure9 -o fig9.png --width 8 --samples 16
+[ "$(tail -n 1 err.txt)" = "wrote fig9.png" ] && pass "figure9's last line says where" || fail "figure9: $(tail -n 1 err.txt)"
+expect_stderr "a figure needs -o" "--figure9 needs -o FILE.png" M --figure9
 expect_image "figures are images (finite, not black)" "[0-9]+" "[0-9]+" fig.png fig9.png
 
 # bad input

@@ -18,21 +18,21 @@ if loaded_libraries "$PLUMAGE" --help | grep -q 'file=lib'; then
         || pass "probe masking loads no image library"
     [ "$(echo "$libs" | wc -l)" -le 20 ] && pass "probe masking opens at most 20 shared objects" \
         || fail "probe masking opens at most 20 shared objects: $libs"
-    libs=$(loaded_libraries "$PLUMAGE" probe masking --figure fig.png --width 16)
+    libs=$(loaded_libraries "$PLUMAGE" probe masking --figure -o fig.png --width 16)
     echo "$libs" | grep -q 'plumage_image_oiio' && pass "writing a picture opens the image module" \
         || fail "writing a picture opens the image module"
 else
     echo "skip LD_DEBUG checks: the dynamic loader prints no file list here (static or sanitized build?)"
 fi
 
-expect_ok "the module writes a picture" "$PLUMAGE" probe masking --figure fig.png --width 16
+expect_ok "the module writes a picture" "$PLUMAGE" probe masking --figure -o fig.png --width 16
 expect_image "picture written (size, finite, not black)" "[0-9]+" "[0-9]+" fig.png
 PLUMAGE_IMAGE_MODULE=$PWD/nowhere/plumage_image_oiio.so expect_stderr "a missing module names its path" \
-    "not found: looked for .*nowhere/plumage_image_oiio.so" "$PLUMAGE" probe masking --figure missing.png --width 16
+    "not found: looked for .*nowhere/plumage_image_oiio.so" "$PLUMAGE" probe masking --figure -o missing.png --width 16
 [ -e missing.png ] && fail "no output without the module" || pass "no output without the module"
 echo "not a library" > broken.so
 PLUMAGE_IMAGE_MODULE=$PWD/broken.so expect_stderr "a broken module names its path" \
-    "broken.so cannot be loaded" "$PLUMAGE" probe masking --figure missing.png --width 16
+    "broken.so cannot be loaded" "$PLUMAGE" probe masking --figure -o missing.png --width 16
 
 # plumage render tells its memory apart: start-up, the image library, the scene.
 cat > tiny.json <<'JSON'
@@ -62,7 +62,7 @@ PLUMAGE_IMAGE_MODULE=$PWD/nowhere.so expect_stderr "render without the module na
 # The install layout: bin/plumage finds <libdir>/plumage/plumage_image_oiio.so.
 if [ -n "${PLUMAGE_BUILD_DIR:-}" ]; then
     expect_ok "install into a prefix" cmake --install "$PLUMAGE_BUILD_DIR" --prefix "$PWD/prefix"
-    libs=$(loaded_libraries "$PWD/prefix/bin/plumage" probe masking --figure installed.png --width 16)
+    libs=$(loaded_libraries "$PWD/prefix/bin/plumage" probe masking --figure -o installed.png --width 16)
     echo "$libs" | grep -q "file=$PWD/prefix/bin/\.\./lib.*/plumage/plumage_image_oiio.so" \
         && pass "the installed plumage opens the installed module" \
         || fail "the installed plumage opens the installed module: $(echo "$libs" | grep plumage)"
