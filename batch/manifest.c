@@ -237,21 +237,9 @@ static plm_result read_jobs(const plm_json_reader *r, const cJSON *jobs, const j
     return PLM_OK;
 }
 
-/* A swept key as a label shows: its last segment ("barbule_separation"),
- * or the whole path where another key ends the same way. */
-static const char *short_key(const cJSON *sweep, const char *key)
-{
-    const char *dot = strrchr(key, '.');
-    const char *tail = dot ? dot + 1 : key;
-    for (const cJSON *e = sweep->child; e; e = e->next) {
-        const char *d = strrchr(e->string, '.');
-        if (e->string != key && strcmp(d ? d + 1 : e->string, tail) == 0)
-            return key;
-    }
-    return tail;
-}
-
-/* The label of a sweep job: one "key=value" line per key with more than one value. */
+/* The label of a sweep job: one "key=value" line per key with more than one
+ * value, by its whole path (a last segment alone can mean two things, as
+ * barb.eccentricity and masking.barb_eccentricity once did). */
 static char *sweep_label(const cJSON *sweep, const int *choice)
 {
     char buf[1024] = "";
@@ -262,7 +250,7 @@ static char *sweep_label(const cJSON *sweep, const int *choice)
         const cJSON *v = cJSON_GetArrayItem(e, choice[k]);
         char *text = cJSON_IsString(v) ? dup_string(v->valuestring) : cJSON_PrintUnformatted(v);
         snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "%s%s=%s", buf[0] ? "\n" : "",
-                 short_key(sweep, e->string), text ? text : "?");
+                 e->string, text ? text : "?");
         free(text);
     }
     return dup_string(buf);

@@ -284,6 +284,44 @@ static plm_result read_masking(const plm_json_reader *r, const cJSON *parent, co
     return plm_params_read(r, obj, path, &plm_masking_param_block, NULL, m);
 }
 
+/* A cross-section is one ellipse: a fiber block's eccentricity (its extent
+ * along e3 over e2) and the masking block's barb_eccentricity (a barb's extent
+ * along n over b) are the same number, since the barb's fiber frame has
+ * e2 = b and e3 = n; so are the barbule's eccentricity and
+ * barbule_eccentricity (r2 over r1, its e3 over e2). A file gives either and
+ * the other takes its value; one that gives both must give the same. */
+static plm_result tie_eccentricity(const plm_json_reader *r, const cJSON *obj, const char *path, const char *fiber_key,
+                                   const char *masking_key, plm_fiber_params *fiber, double *masking)
+{
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(obj, fiber_key), "eccentricity");
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(obj, "masking"), masking_key);
+    char masking_path[320];
+    snprintf(masking_path, sizeof masking_path, "%s.masking", path);
+    if (f && m && fiber->eccentricity != *masking)
+        return plm_json_fail(r, masking_path, masking_key,
+                             "%g, while %s.eccentricity is %g: both are the %s cross-section's aspect ratio, so give one "
+                             "(the other takes its value) or the same", *masking, fiber_key, fiber->eccentricity,
+                             fiber_key);
+    char fiber_path[320];
+    snprintf(fiber_path, sizeof fiber_path, "%s.%s", path, fiber_key);
+    if (f && !m && !(fiber->eccentricity <= 20.0)) /* the masking table's range, (0, 20] */
+        return plm_json_fail(r, fiber_path, "eccentricity", "%g is over 20, the most masking.%s (the same number) takes",
+                             fiber->eccentricity, masking_key);
+    if (m && !f && !(*masking >= 0.01)) /* the fiber table's range, [0.01, 100] */
+        return plm_json_fail(r, masking_path, masking_key, "%g is under 0.01, the least %s.eccentricity (the same number) "
+                             "takes", *masking, fiber_key);
+    if (f)
+        *masking = fiber->eccentricity;
+    if (m && !f) {
+        fiber->eccentricity = *masking;
+        if (plm_fiber_params_validate(fiber, r->err) != PLM_OK) { /* a medulla must stay inside the new cortex */
+            plm_error_prefix(r->err, "%s: %s (eccentricity from masking.%s): ", r->file, fiber_path, masking_key);
+            return PLM_ERR_INVALID;
+        }
+    }
+    return PLM_OK;
+}
+
 plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
                                    const char *const *extra, plm_material *m)
 {
@@ -301,6 +339,12 @@ plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, c
         rc = read_fiber(r, obj, path, "barbule", &m->feather->barbule);
     if (rc == PLM_OK)
         rc = read_masking(r, obj, path, &m->feather->masking);
+    if (rc == PLM_OK)
+        rc = tie_eccentricity(r, obj, path, "barb", "barb_eccentricity", &m->feather->barb,
+                              &m->feather->masking.barb_eccentricity);
+    if (rc == PLM_OK)
+        rc = tie_eccentricity(r, obj, path, "barbule", "barbule_eccentricity", &m->feather->barbule,
+                              &m->feather->masking.barbule_eccentricity);
     if (rc != PLM_OK) { /* a failed read leaves nothing allocated (a species' optics leaked: fuzz_species) */
         free(m->feather);
         m->feather = NULL;

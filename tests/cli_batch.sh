@@ -38,8 +38,13 @@ grep -q '"spp":	2' sweep/0003/summary.json && grep -q '"camera.fov=40"' sweep/00
     grep -q '"fnv1a64"' sweep/0003/summary.json && pass "summary has parameters and hashes" || fail "summary content"
 expect_image "job images" 24 16 sweep/*/image.png sweep/*/image.exr
 # 3 rows x 2 columns of cells: each a 24x16 image enlarged 6x (144x96) under two 17-pixel label
-# lines, with 6-pixel gaps: (6 + 2 x (144 + 6)) x (6 + 3 x (2 x 17 + 6 + 96 + 6)).
-expect_image "contact sheet" 306 432 sweep/contact_sheet.png
+# lines as wide as "lights.1.irradiance=[1,1,1]" (27 characters of at most 8 pixels), with 6-pixel
+# gaps: (6 + 2 x (27 x 8 + 6)) x (6 + 3 x (2 x 17 + 6 + 96 + 6)).
+expect_image "contact sheet" 450 432 sweep/contact_sheet.png
+# Labels by the whole path: job 0003's second line (cell 1 of row 1 at 6 + 222, 6 + 142; baselines 13
+# and 30 pixels down), drawn as the batch draws it (13 pixels, 0.95 on 0.1, written as they are).
+LABEL_RAW=1 expect_label "contact sheet label" sweep/contact_sheet.png "218x17+228+165" 2 13 13 0.1,0.1,0.1 \
+    0.95,0.95,0.95 "lights.1.irradiance=[3,2,1]"
 [ -s sweep/report.json ] && pass "report written" || fail "report written"
 expect_output "status: all done" "6 jobs: 6 done, 0 failed, 0 killed, 0 missing" "$PLUMAGE" batch sweep.json --status
 expect_ok "a second run" "$PLUMAGE" batch sweep.json

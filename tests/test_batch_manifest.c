@@ -46,17 +46,17 @@ static void sweep_is_the_product_last_key_fastest(void **state)
         assert_string_equal(j->sets[1], set);
         assert_string_equal(j->sets[2], i % 2 ? "materials.vane.type=\"diffuse\"" : "materials.vane.type=\"feather\"");
         assert_string_equal(j->sets[3], "film.seed=7");
-        /* The label names the keys that vary by their last segment, strings without their quotes. */
-        snprintf(label, sizeof label, "fov=%s\ntype=%s", fov[i], i % 2 ? "diffuse" : "feather");
+        /* The label names the keys that vary by their whole path, strings without their quotes. */
+        snprintf(label, sizeof label, "camera.fov=%s\nmaterials.vane.type=%s", fov[i], i % 2 ? "diffuse" : "feather");
         assert_string_equal(j->label, label);
         for (int k = 0; k < i; ++k)
             assert_true(m.jobs[k].key != j->key);
     }
     plm_manifest_free(&m);
-    /* Keys that end alike keep their whole path in the label. */
+    /* Keys that end alike stay told apart. */
     assert_int_equal(parse("{\"scene\": \"" SCENE "\", \"sweep\": {\"lights.0.radiance\": [1, 2],"
                            " \"lights.1.radiance\": [3, 4], \"camera.fov\": [5, 6]}}", &m, &err), PLM_OK);
-    assert_string_equal(m.jobs[7].label, "lights.0.radiance=2\nlights.1.radiance=4\nfov=6");
+    assert_string_equal(m.jobs[7].label, "lights.0.radiance=2\nlights.1.radiance=4\ncamera.fov=6");
     plm_manifest_free(&m);
 }
 

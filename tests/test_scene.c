@@ -164,7 +164,7 @@ static void feather_material_fields(void **state)
                "           \"beta_n\": 20, \"medulla_axes\": [0.5, 0.4], \"medulla_centre\": [-0.1, 0.1],\n"
                "           \"medulla_reflectance\": [0.1, 0.2, 0.9], \"lobes\": 7},\n"
                "  \"barbule\": {\"eccentricity\": 2},\n"
-               "  \"masking\": {\"barb_eccentricity\": 3, \"barbule_eccentricity\": 1.5, \"barbule_length\": 2,\n"
+               "  \"masking\": {\"barb_eccentricity\": 1.6, \"barbule_length\": 2,\n"
                "              \"barbule_separation\": 0.3, \"barbule_rotation\": 40, \"barbule_inclination\": -30}}}}");
     plm_scene s;
     plm_error err;
@@ -182,6 +182,8 @@ static void feather_material_fields(void **state)
     assert_double_near(p->barb.medulla_ca, -0.1, 0);
     assert_int_equal(p->barb.lobes, 7);
     assert_double_near(p->barbule.eccentricity, 2.0, 0);
+    assert_double_near(p->masking.barb_eccentricity, 1.6, 0);
+    assert_double_near(p->masking.barbule_eccentricity, 2.0, 0); /* the barbule fiber's: one cross-section */
     plm_feather_params def;
     plm_feather_params_default(&def);
     assert_double_near(p->barbule.eta, def.barbule.eta, 0);
@@ -190,6 +192,48 @@ static void feather_material_fields(void **state)
     assert_double_near(p->masking.barbule_separation, 0.3, 0);
     assert_int_equal(m->texture.width, 4);
     plm_scene_free(&s);
+}
+
+/* A barb's or barbule's cross-section is one ellipse: the fiber's eccentricity
+ * and the masking's barb_eccentricity / barbule_eccentricity are one number.
+ * Either may be given and the other takes it; both must agree; each must fit
+ * the other's range; a medulla must still fit the cortex it gives. */
+static void eccentricity_is_one_value(void **state)
+{
+    (void)state;
+    write_file("feather/ecc_masking.json",
+               "{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"texture.exr\",\n"
+               "  \"masking\": {\"barb_eccentricity\": 2.5, \"barbule_eccentricity\": 1.2}}}}");
+    plm_scene s;
+    plm_error err;
+    if (load("feather/ecc_masking.json", &s, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    const plm_feather_params *p = s.materials[0].feather;
+    assert_double_near(p->barb.eccentricity, 2.5, 0);
+    assert_double_near(p->barbule.eccentricity, 1.2, 0);
+    assert_double_near(p->masking.barb_eccentricity, 2.5, 0);
+    plm_scene_free(&s);
+    const struct { const char *json; const char *const *words; } bad[] = {
+        {"\"barb\": {\"eccentricity\": 1.6}, \"masking\": {\"barb_eccentricity\": 3}",
+         (const char *const[]){"materials.f.masking.barb_eccentricity", "3", "barb.eccentricity is 1.6", "give one",
+                               NULL}},
+        {"\"barbule\": {\"eccentricity\": 30}",
+         (const char *const[]){"materials.f.barbule", "30", "over 20", "masking.barbule_eccentricity", NULL}},
+        {"\"masking\": {\"barb_eccentricity\": 0.005}",
+         (const char *const[]){"materials.f.masking.barb_eccentricity", "under 0.01", NULL}},
+        {"\"barb\": {\"medulla_axes\": [0.5, 0.9]}, \"masking\": {\"barb_eccentricity\": 0.8}",
+         (const char *const[]){"materials.f.barb", "from masking.barb_eccentricity", NULL}},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        char json[512];
+        snprintf(json, sizeof json, "{\"materials\": {\"f\": {\"type\": \"feather\", \"texture\": \"texture.exr\", %s}}}",
+                 bad[i].json);
+        write_file("feather/ecc_bad.json", json);
+        assert_int_equal(load("feather/ecc_bad.json", &s, &err), PLM_ERR_INVALID);
+        for (const char *const *w = bad[i].words; *w; ++w)
+            if (!strstr(err.message, *w))
+                fail_msg("case %zu: \"%s\" not in: %s", i, *w, err.message);
+    }
 }
 
 /* A fiber's pigments become its sigma_a: concentrations times the published
@@ -491,6 +535,7 @@ int main(void)
         cmocka_unit_test(includes_resolve_relative_paths),
         cmocka_unit_test(feather_material_fields),
         cmocka_unit_test(fiber_pigments_give_sigma_a),
+        cmocka_unit_test(eccentricity_is_one_value),
         cmocka_unit_test(errors_name_file_field_and_allowed_values),
         cmocka_unit_test(buffer_reads_like_a_file),
         cmocka_unit_test(species_feathers_are_generated_once),
