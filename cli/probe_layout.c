@@ -156,7 +156,15 @@ int probe_layout(int argc, char **argv)
         "Runs a layout (pelt over a plane, a sphere or a mesh; feather ball; wing) and prints one CSV row per "
         "placed feather: its prototype (species index and variant), wing row and dorsal order, variation (scale, "
         "yaw, lift, tint) and the 3x4 matrix from the feather frame (mm) to layout space. docs/layouts.md "
-        "explains the parameters."};
+        "explains the parameters.\n"
+        "Columns: instance (0-based), prototype (the distinct feather it shows: species x variant), species (index "
+        "in the --species or --row order), variant, row (wing: primary 0, secondary 1, tertial 2, greater_covert 3, "
+        "median_covert 4, lesser_covert 5, alula 6; pelt and ball: -1), order (which lies over which: a feather "
+        "covers every feather of smaller order it touches), scale, yaw_deg, lift_deg, tint_r/g/b, and m00..m23, the "
+        "matrix's rows (m<row><column>; column 3 is where the calamus base lies). The feather frame: rachis along +y from the "
+        "calamus at the origin, dorsal side +z. A wing is a right wing: shoulder at the origin, span along +x, "
+        "leading edge toward +y, its top (dorsal) side toward +z; a camera at negative z sees it from below.\n"
+        "  plumage probe layout --species presets/species/covert_parrot.json --count 200 | head -3"};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, n_opts, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;

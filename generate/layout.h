@@ -60,8 +60,9 @@ typedef struct plm_layout_prototype {
 typedef struct plm_layout_instance {
     double m[3][4];  /* feather frame (mm) -> layout space: rows of [linear | translation] */
     int prototype;   /* index into the layout's prototypes */
-    int row;         /* wing: the plm_wing_row; pelt and ball: the species index */
-    int order;       /* wing: dorsal stacking order, a larger order lies above a smaller one where they overlap */
+    int row;         /* wing: the plm_wing_row; pelt and ball: -1 */
+    int order;       /* stacking order: a larger order lies above a smaller one where they overlap (wing: dorsal
+                      * order; pelt and ball: feathers rooted further along the flow lie below, 0 the furthest) */
     double scale;    /* the size factor applied (1 = the nominal size) */
     double yaw;      /* radians, the yaw applied */
     double lift;     /* radians, the elevation above the surface's tangent plane; wing: the pitch it

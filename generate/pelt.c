@@ -433,6 +433,35 @@ typedef struct pelt_setup {
     int variants;
 } pelt_setup;
 
+typedef struct flow_rank {
+    double along; /* the root's distance along the flow axis */
+    int instance;
+} flow_rank;
+
+static int compare_along(const void *a, const void *b)
+{
+    const flow_rank *p = a, *q = b;
+    return p->along > q->along ? -1 : p->along < q->along ? 1 : p->instance - q->instance;
+}
+
+/* The order in which the feathers shingle: a feather's tip reaches over the
+ * bases of those rooted further along the flow, so it lies over them; its
+ * `order` counts them (the most downstream feather is 0). */
+static plm_result shingle_order(plm_layout *out, const surface_point *roots, vec3 axis, plm_error *err)
+{
+    int n = out->instance_count;
+    flow_rank *r = malloc(sizeof *r * (size_t)n);
+    if (!r)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for %d feathers", n);
+    for (int i = 0; i < n; ++i)
+        r[i] = (flow_rank){v3_dot(roots[i].p, axis), i};
+    qsort(r, (size_t)n, sizeof *r, compare_along);
+    for (int k = 0; k < n; ++k)
+        out->instances[r[k].instance].order = k;
+    free(r);
+    return PLM_OK;
+}
+
 static plm_result pelt(const surface *sf, vec3 axis, const pelt_setup *ps, uint64_t seed,
                        const plm_layout_species *species, int species_count, plm_layout *out, plm_error *err)
 {
@@ -464,15 +493,17 @@ static plm_result pelt(const surface *sf, vec3 axis, const pelt_setup *ps, uint6
         int s = pick_weighted(cdf, species_count, plm_rng_uniform(&rng));
         int v = (int)(plm_rng_uniform(&rng) * ps->variants);
         in->prototype = s * ps->variants + v;
-        in->row = s;
+        in->row = -1; /* rows are a wing's */
         plm_layout_draw_variation(&rng, &ps->var, in);
         in->scale *= roots[i].size;
         const plm_layout_extent *e = &ext[in->prototype];
         place_on_surface(sf, &roots[i], e, in->scale * ps->length / e->length, ps->elevation, ps->max_elevation,
                          in);
     }
-    if (rc == PLM_OK)
+    if (rc == PLM_OK) {
         out->instance_count = ps->count;
+        rc = shingle_order(out, roots, axis, err);
+    }
     plm_layout_extents_free(ext, out->prototype_count);
     free(roots);
     return rc;

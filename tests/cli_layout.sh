@@ -18,6 +18,15 @@ pelt --seed 3 >second.csv 2>/dev/null
 cmp -s first.csv second.csv && pass "same seed, same CSV" || fail "same seed gave different CSVs"
 pelt --seed 4 >third.csv 2>/dev/null
 cmp -s first.csv third.csv && fail "another seed gave the same CSV" || pass "another seed, other instances"
+# A pelt has no rows (-1), and its order ranks the feathers along the flow (-y here): order 0 is rooted
+# furthest down, and each larger order is rooted no lower (m13, the root's y).
+if awk -F, 'NR > 1 { if ($5 != -1) bad = 1; y[$6] = $20; seen[$6] = 1 }
+            END { for (k = 0; k < NR - 1; ++k) { if (!seen[k] || (k > 0 && y[k] < y[k - 1])) bad = 1 } exit bad }' \
+        first.csv; then
+    pass "a pelt's row is -1 and its order follows the flow"
+else
+    fail "pelt row/order: $(cut -d, -f1-6,20 first.csv | head -5)"
+fi
 expect_output "pelt on a sphere" "^49," pelt --surface sphere --radius 0.5
 expect_output "feather ball (496)" "^495," "$PLUMAGE" probe layout --kind ball --species "$SPECIES/covert_parrot.json"
 expect_output "wing" "^0,0,0,0,0,0," "$PLUMAGE" probe layout --kind wing --row "primary=$SPECIES/remex_pigeon.json" \
