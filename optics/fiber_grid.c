@@ -9,6 +9,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/progress.h"
+
 #define HALF_PI (0.5 * PLM_PI)
 
 double plm_fiber_theta_u(double eta, double theta) { return plm_fiber_inverse_index(eta, sin(theta), cos(theta)); }
@@ -130,15 +132,23 @@ int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch
             ++launched;
     if (launched == 0)
         parallel_worker(&r);
+    /* Progress once the build has taken a second; each phase ends with its line. */
+    plm_progress progress = {.start = 0.0};
+    char detail[96];
+    snprintf(detail, sizeof detail, "%s, %d threads", what, launched);
     while (launched > 0 && atomic_load(&r.done) < items && !atomic_load(&r.failed)) {
         struct timespec nap = {0, 100000000};
         nanosleep(&nap, NULL);
-        if (plm_fiber_seconds() - started > 1.0 && !quiet)
-            fprintf(stderr, "\rbuilding fiber table, %s: %3d%% (%d threads)", what,
-                    100 * atomic_load(&r.done) / items, launched);
+        if (plm_fiber_seconds() - started > 1.0 && !quiet) {
+            if (progress.start == 0.0)
+                plm_progress_start(&progress, "fiber table");
+            plm_progress_update(&progress, (double)atomic_load(&r.done) / items, detail);
+        }
     }
     for (int i = 0; i < launched; ++i)
         pthread_join(tid[i], NULL);
+    if (progress.start != 0.0)
+        plm_progress_finish(&progress, (double)atomic_load(&r.done) / items, detail);
     free(tid);
     return !atomic_load(&r.failed);
 }

@@ -335,8 +335,6 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
     if (rc != PLM_OK)
         return rc;
     t->build_seconds = plm_fiber_seconds() - t0;
-    if (t->build_seconds > 1.0 && !(o && o->quiet)) /* after the progress shown */
-        fprintf(stderr, "\rbuilding fiber table: done in %.1f s                           \n", t->build_seconds);
     return PLM_OK;
 }
 
