@@ -10,6 +10,7 @@
 #include "cli/options.h"
 #include "cli/outputs.h"
 #include "cli/render_job.h"
+#include "cli/turntable.h"
 #include "common/fileio.h"
 #include "common/image_io.h"
 #include "common/memory.h"
@@ -97,6 +98,20 @@ static plm_result write_resolved(const plm_render_job *job, const plm_scene *sce
     return rc;
 }
 
+/* A turntable wrote its frames as it went: the job's outputs become the
+ * first and last frame and the MP4, as the summary line names them. */
+static void describe_sequence(plm_render_job *job, int interrupted, const char *mp4)
+{
+    const char *named = job->png[0] ? job->png : job->exr;
+    char first[PLM_PATH_MAX], last[PLM_PATH_MAX];
+    plm_turntable_frame_path(named, 0, job->turntable, first, sizeof first);
+    plm_turntable_frame_path(named, job->turntable - 1, job->turntable, last, sizeof last);
+    int n = snprintf(job->png, sizeof job->png, "%s%s%s", first, interrupted ? "" : " ... ", interrupted ? "" : last);
+    if (n >= (int)sizeof job->png) /* too long to name both: the first will do */
+        snprintf(job->png, sizeof job->png, "%s", first);
+    snprintf(job->exr, sizeof job->exr, "%s", mp4);
+}
+
 int plm_render_job_run(plm_render_job *job)
 {
     plm_error err = {{0}};
@@ -141,15 +156,6 @@ int plm_render_job_run(plm_render_job *job)
     ro.estimator = (plm_estimator)job->estimator;
     ro.progress = job->progress;
     ro.cancel = job->cancel;
-    plm_film film;
-    double t1 = plm_bench_seconds();
-    if (plm_render(&scene, &ro, &film, &err) != PLM_OK) {
-        plm_outputs_undo(&outputs);
-        plm_scene_free(&scene);
-        return job_failed(job, &err);
-    }
-    double t2 = plm_bench_seconds();
-    int status = 0;
     plm_picture picture = plm_picture_of(&scene.film);
     if (job->exposure_given)
         picture.exposure = job->exposure;
@@ -157,7 +163,23 @@ int plm_render_job_run(plm_render_job *job)
         picture.view = (plm_view)(job->view - 1);
     if (job->white_balance > 0.0)
         picture.white_balance = job->white_balance;
-    if (film.interrupted && job->discard_interrupted)
+    plm_film film;
+    double t1 = plm_bench_seconds();
+    char mp4[PLM_PATH_MAX] = "";
+    plm_turntable turntable = {job->turntable, job->png, job->exr, 0.0};
+    plm_result rendered = job->turntable > 0
+                              ? plm_turntable_render(&scene, &ro, &picture, &turntable, &film, mp4, sizeof mp4, &err)
+                              : plm_render(&scene, &ro, &film, &err);
+    if (rendered != PLM_OK) {
+        plm_outputs_undo(&outputs);
+        plm_scene_free(&scene);
+        return job_failed(job, &err);
+    }
+    double t2 = plm_bench_seconds();
+    int status = 0;
+    if (job->turntable > 0)
+        describe_sequence(job, film.interrupted, mp4);
+    else if (film.interrupted && job->discard_interrupted)
         job->png[0] = job->exr[0] = '\0';
     else if (plm_film_write(&film, job->exr, job->png, &picture, &err) != PLM_OK)
         status = job_failed(job, &err);
@@ -196,7 +218,7 @@ int plm_render_job_run(plm_render_job *job)
 int cmd_render(int argc, char **argv)
 {
     static const char *const estimators[] = {"mis", "nee", "bsdf", NULL};
-    int spp = 0, threads = 0, seed = -1, max_depth = -1, quiet = 0, estimator = 0, view = 0;
+    int spp = 0, threads = 0, seed = -1, max_depth = -1, quiet = 0, estimator = 0, view = 0, turntable = 0;
     double exposure = 0.0, white_balance = 0.0;
     const char *png = NULL, *exr = NULL, *resolution = NULL;
     plm_opt_list sets = {{0}, 0};
@@ -222,6 +244,9 @@ int cmd_render(int argc, char **argv)
          "PNG: light of a blackbody this hot shows as white (default: film.white_balance)", 0},
         {"--estimator", PLM_OPT_CHOICE, &estimator, 0, 0, 0, estimators, "NAME",
          "mis (default), nee (light sampling only) or bsdf (BSDF sampling only): for validation", 0},
+        {"--turntable", PLM_OPT_INT, &turntable, 0, 1, PLM_TURNTABLE_MAX, NULL, "N",
+         "N frames with the camera orbiting the subject, numbered after -o (frame.png -> frame_000.png ...), "
+         "and an MP4 beside them where ffmpeg is installed", 0},
         {"--quiet", PLM_OPT_FLAG, &quiet, 0, 0, 0, NULL, NULL, "no progress bar", 0},
     };
     const int n_opts = (int)(sizeof opts / sizeof opts[0]);
@@ -262,6 +287,7 @@ int cmd_render(int argc, char **argv)
     job.seed = seed;
     job.estimator = estimator;
     job.progress = !quiet;
+    job.turntable = turntable;
     job.exposure_given = opts[8].seen;
     job.exposure = exposure;
     job.view = opts[9].seen ? view + 1 : 0;

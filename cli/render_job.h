@@ -22,6 +22,7 @@ typedef struct plm_render_job {
     int view;             /* 0 = the scene's film.view, else a plm_view + 1 */
     double white_balance; /* 0 = the scene's film.white_balance */
     char png[PLM_PATH_MAX], exr[PLM_PATH_MAX]; /* both "": the scene's film.png/exr (see plm_render_job_run) */
+    int turntable;        /* > 0: that many frames around the subject, numbered after png/exr (cli/turntable.h) */
     volatile sig_atomic_t *cancel;
     int discard_interrupted; /* batch jobs: a cancelled render writes no image */
     const char *resolved;    /* if set: the resolved scene is written here (docs/batch.md) */

@@ -285,15 +285,26 @@ vec3 plm_world_frame_position(const plm_world *w, vec3 from, double fov)
     return v3_madd(c, v3_normalize(from), 1.05 * r / sin(plm_radians(0.5 * fov)));
 }
 
-static void build_camera(plm_world *w)
+plm_camera_desc plm_world_camera_desc(const plm_world *w)
 {
-    const plm_scene *s = w->scene;
-    plm_camera_desc d = s->camera;
+    plm_camera_desc d = w->scene->camera;
     if (!d.given) { /* frame the scene's bounding sphere from +z */
         d.look_at = v3_scale(v3_add(w->bounds_min, w->bounds_max), 0.5);
         d.position = plm_world_frame_position(w, v3(0.0, 0.0, 1.0), d.fov);
     }
-    plm_camera_from_desc(&d, s->film.width, s->film.height, s->film.far_field, &w->camera);
+    return d;
+}
+
+void plm_world_set_camera(plm_world *w, const plm_camera_desc *d)
+{
+    const plm_film_desc *f = &w->scene->film;
+    plm_camera_from_desc(d, f->width, f->height, f->far_field, &w->camera);
+}
+
+static void build_camera(plm_world *w)
+{
+    plm_camera_desc d = plm_world_camera_desc(w);
+    plm_world_set_camera(w, &d);
 }
 
 void plm_camera_from_desc(const plm_camera_desc *desc, int width, int height, int far_field, plm_camera *cam)

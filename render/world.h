@@ -107,6 +107,10 @@ void plm_camera_from_desc(const plm_camera_desc *d, int width, int height, int f
 /* Where a camera of vertical field of view fov (degrees) looking from
  * direction `from` at the centre of the world's bounds sees all of them. */
 vec3 plm_world_frame_position(const plm_world *w, vec3 from, double fov);
+/* The camera the world was built with, the automatic framing resolved; and
+ * a new camera for the same film (a turntable orbits it between renders). */
+plm_camera_desc plm_world_camera_desc(const plm_world *w);
+void plm_world_set_camera(plm_world *w, const plm_camera_desc *d);
 
 /* Probability that next-event estimation picks light i. */
 static inline double plm_world_light_pick(const plm_world *w, int i) { return w->light_cdf[i + 1] - w->light_cdf[i]; }

@@ -7,6 +7,7 @@
 #   scripts/install-deps.sh --fuzz    also clang 14 and its compiler-rt (libFuzzer and
 #                                     the sanitizers) for the PLUMAGE_FUZZ build
 #                                     (docs/robustness.md)
+#   scripts/install-deps.sh --video   also ffmpeg, which turns turntable frames into an MP4
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
           libembree-dev libopenimageio-dev openimageio-tools libosd-dev libopenmesh-dev
@@ -15,7 +16,8 @@ for arg in "$@"; do
     case "$arg" in
     --slurm) packages+=(slurmctld slurmd slurm-client munge) ;;
     --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
-    *) echo "usage: $0 [--slurm] [--fuzz]" >&2; exit 2 ;;
+    --video) packages+=(ffmpeg) ;;
+    *) echo "usage: $0 [--slurm] [--fuzz] [--video]" >&2; exit 2 ;;
     esac
 done
 missing=()

@@ -30,6 +30,24 @@ expect_ok "-o alone writes only the PNG" "$PLUMAGE" render ok.json --quiet -o on
 if [ ! -e only.exr ]; then pass "only the PNG"; else fail "only the PNG"; fi
 expect_image "the scene's images (size, finite, not black)" 40 30 ok.png ok.exr t1.exr s9.exr only.png
 
+# A turntable: numbered frames after -o, the first seen from the scene's own camera, the others around it,
+# and an MP4 of them where ffmpeg is installed.
+expect_ok "turntable of 3 frames" "$PLUMAGE" render ok.json --quiet --turntable 3 -o spin/t.png
+expect_image "turntable frames" 40 30 spin/t_000.png spin/t_001.png spin/t_002.png
+same_pixels spin/t_000.png only.png && pass "frame 0 is the scene's view" || fail "frame 0 is the scene's view"
+same_pixels spin/t_000.png spin/t_001.png && fail "the camera turns between frames" || pass "the camera turns between frames"
+grep -q "frame 3 of 3" err.txt && pass "progress names each frame" || fail "progress names each frame: $(cat err.txt)"
+[ ! -e spin/t_003.png ] && pass "no frame beyond N" || fail "no frame beyond N"
+if command -v ffprobe >/dev/null; then
+    frames=$(ffprobe -v error -count_frames -show_entries stream=nb_read_frames -of csv=p=0 spin/t.mp4 2>/dev/null)
+    [ "$frames" = 3 ] && pass "an MP4 of the 3 frames" || fail "an MP4 of the 3 frames (ffprobe: '$frames')"
+    grep -q "spin/t.mp4" err.txt && pass "the MP4 named in the last line" || fail "the MP4 named: $(tail -3 err.txt)"
+else
+    echo "skip MP4: ffmpeg is not installed"
+    grep -q "no MP4: ffmpeg is not installed" err.txt && pass "says there is no MP4" || fail "says there is no MP4"
+fi
+expect_fail "--turntable 0 is refused" "$PLUMAGE" render ok.json --quiet --turntable 0 -o spin/z.png
+
 # Feathers generated in memory from a species preset, and a generated feather.json used directly and by include.
 SPECIES="$PLUMAGE_SOURCE_DIR/presets/species/covert_parrot.json"
 cat > gen.json <<JSON
