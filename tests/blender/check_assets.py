@@ -153,12 +153,20 @@ def check_uvs_meet_textures(face_uvs, feather, pigment):
     """The vane's faces, looked up through their UVs as Blender would, land on
     the vane region of the feather texture (its third channel: 0 background,
     0.5 rachis, 1 vane; the mesh reaches a little past the outline, which the
-    renderer cuts away) and the pigment's tip weight (second channel) is
-    larger at the tip (v near 1) than at the base: a mirrored u or v fails."""
+    renderer cuts away) more often than they would mirrored, and the pigment's
+    tip weight (second channel) is larger at the tip (v near 1) than at the
+    base: a mirrored u or v fails."""
     px = feather.pixels[:]
-    on_vane = sum(texel(feather, px, u, v, 2) > 0.75 for u, v in face_uvs)
-    check(on_vane >= 0.75 * len(face_uvs), "vane.ply: %d of %d face centres land on the texture's vane region "
-          "(at least 3/4 expected)" % (on_vane, len(face_uvs)))
+
+    def on_vane(flip_u):
+        return sum(texel(feather, px, 1 - u if flip_u else u, v, 2) > 0.75 for u, v in face_uvs)
+
+    # The mesh covers the outline and a margin the renderer cuts away, whose share depends on the
+    # species' outline: so no fixed share is asked, only that the UVs as written beat u mirrored (the
+    # remex's vanes differ in width); a mirrored v is caught by the tip weight below.
+    kept, mirrored = on_vane(False), on_vane(True)
+    check(kept > mirrored, "vane.ply: %d of %d face centres land on the texture's vane region, more than %d "
+          "with u mirrored" % (kept, len(face_uvs), mirrored))
     px = pigment.pixels[:]
     tip = [texel(pigment, px, u, v, 1) for u, v in face_uvs if v > 0.8]
     base = [texel(pigment, px, u, v, 1) for u, v in face_uvs if v < 0.2]
