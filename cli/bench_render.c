@@ -7,7 +7,9 @@
  * with the tabulated, then the stochastic estimator on the same world before
  * the trace-only pass, so all their ratios come from one run. The feather is
  * generated from a species preset, or (--vane-quad) a curled quad cut out by
- * an analytic feather texture. */
+ * an analytic feather texture. Case (d) weighs the environment map's
+ * sampling: one feather under the map alone against a constant environment
+ * of its mean, and MIS against BSDF sampling alone at equal time. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -251,10 +253,104 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
     return 0;
 }
 
+/* The map's radiance averaged over the sphere (texels weighted by their solid angle). */
+static rgb env_mean(const plm_image *im)
+{
+    rgb sum = rgb_gray(0.0);
+    double weight = 0.0;
+    for (int y = 0; y < im->height; ++y) {
+        double w = sin(PLM_PI * (y + 0.5) / im->height);
+        for (int x = 0; x < im->width; ++x) {
+            const float *p = im->pixels + (size_t)im->channels * ((size_t)y * im->width + x);
+            sum = rgb_add(sum, rgb_scale(rgb_make(p[0], p[1], p[2]), w));
+            weight += w;
+        }
+    }
+    return rgb_scale(sum, 1.0 / weight);
+}
+
+/* Root mean square difference of two films' pixels (all channels). */
+static double film_rmse(const plm_film *a, const plm_film *b)
+{
+    double sum = 0.0;
+    size_t n = (size_t)a->width * a->height * 3;
+    for (size_t i = 0; i < n; ++i)
+        sum += ((double)a->rgb[i] - b->rgb[i]) * ((double)a->rgb[i] - b->rgb[i]);
+    return sqrt(sum / n);
+}
+
+static double samples_per_thread(const plm_film *f) { return f->sample_count / f->seconds / f->threads; }
+
+/* (d) One feather at 128x256 lit by the environment map alone: its sampling
+ * cost against a constant environment of the map's mean radiance, and the
+ * error of MIS and of BSDF sampling alone against a reference of 16 times the
+ * samples (equal time: BSDF sampling's error scaled by the square root of its
+ * time over MIS's). */
+static int run_env_case(const bench_options *o)
+{
+    if (!strchr(o->cases, 'd'))
+        return 0;
+    plm_scene scene[2];
+    plm_world world[2];
+    plm_error err = {{0}};
+    int w = (128 + o->downscale - 1) / o->downscale, h = (256 + o->downscale - 1) / o->downscale, built = 0;
+    const char *species = o->vane_quad ? NULL : o->species;
+    for (; built < 2; ++built) {
+        if (!build_scene(&scene[built], 1, 0, w, h, species, o->diffuse, &err)) {
+            plm_scene_free(&scene[built]);
+            break;
+        }
+        set_kind(&scene[built], o->kind[0]);
+        scene[built].film.fiber_table_mib = o->table_mib;
+        if (built == 1) { /* the same world under the map's mean, a constant */
+            plm_light *map = &scene[1].lights[0];
+            rgb mean = env_mean(&map->image);
+            free(map->image.pixels);
+            *map = plm_constant_sky(mean);
+        }
+        if (plm_world_build(&scene[built], &world[built], &err) != PLM_OK) {
+            plm_scene_free(&scene[built]);
+            break;
+        }
+    }
+    int ok = built == 2;
+    if (ok) {
+        plm_render_options opt = {.threads = o->threads, .spp = o->spp};
+        plm_film map, constant, bsdf, reference;
+        plm_render_world(&world[0], &opt, &map, &err);
+        plm_render_world(&world[1], &opt, &constant, &err);
+        opt.estimator = PLM_ESTIMATOR_BSDF;
+        plm_render_world(&world[0], &opt, &bsdf, &err);
+        opt.estimator = PLM_ESTIMATOR_MIS;
+        opt.spp = 16 * o->spp;
+        opt.seed = 7919;
+        plm_render_world(&world[0], &opt, &reference, &err);
+        double mis_error = film_rmse(&map, &reference), bsdf_error = film_rmse(&bsdf, &reference);
+        double equal_time = bsdf_error * sqrt(bsdf.seconds / map.seconds);
+        printf("\n(d) one feather %dx%d under the environment map alone, %d spp, %d threads:\n", w, h, o->spp,
+               map.threads);
+        printf("  samples/s/thread: map %.0f, constant of its mean %.0f (map over constant %.2f)\n",
+               samples_per_thread(&map), samples_per_thread(&constant),
+               samples_per_thread(&map) / samples_per_thread(&constant));
+        printf("  RMSE against %d spp: MIS %.5f, BSDF alone %.5f, BSDF alone at MIS's time %.5f (%.2fx MIS's)\n",
+               opt.spp, mis_error, bsdf_error, equal_time, equal_time / mis_error);
+        plm_film *films[] = {&map, &constant, &bsdf, &reference};
+        for (int i = 0; i < 4; ++i)
+            plm_film_free(films[i]);
+    } else {
+        fprintf(stderr, "error: %s\n", err.message[0] ? err.message : "out of memory");
+    }
+    for (int i = 0; i < built; ++i) {
+        plm_world_free(&world[i]);
+        plm_scene_free(&scene[i]);
+    }
+    return ok ? 0 : 1;
+}
+
 int bench_render(int argc, char **argv)
 {
     bench_options o = {0, 16, 2500, 0, 0, 1, 0, PLM_FIBER_TABLE_MIB_DEFAULT,
-                       "presets/species/covert_parrot.json", NULL, "tabulated", "abc",
+                       "presets/species/covert_parrot.json", NULL, "tabulated", "abcd",
                        1, {PLM_BCSDF_TABULATED, PLM_BCSDF_STOCHASTIC}};
     plm_option opts[] = {
         {"--threads", PLM_OPT_INT, &o.threads, 0, 1, 1024, NULL, "N", "render threads (default: all cores)", 0},
@@ -270,7 +366,7 @@ int bench_render(int argc, char **argv)
         {"--bcsdf", PLM_OPT_STRING, &o.bcsdf, 0, 0, 0, NULL, "NAME",
          "the fiber estimator: tabulated (default), stochastic (docs/fiber.md) or both (the same world, one after\n"
          "the other, and their samples/s ratio)", 0},
-        {"--cases", PLM_OPT_STRING, &o.cases, 0, 0, 0, NULL, "LETTERS", "which cases to run (default abc)", 0},
+        {"--cases", PLM_OPT_STRING, &o.cases, 0, 0, 0, NULL, "LETTERS", "which cases to run (default abcd)", 0},
         {"--downscale", PLM_OPT_INT, &o.downscale, 0, 1, 64, NULL, "N",
          "divide each case's width and height by N (for expensive references)", 0},
         {"--shaded-only", PLM_OPT_FLAG, &o.shaded_only, 0, 0, 0, NULL, NULL,
@@ -282,8 +378,10 @@ int bench_render(int argc, char **argv)
         "plumage bench render [options]",
         "Samples per second per thread of the path tracer (max depth 16, environment map) on (a) one feather\n"
         "at 256x512, (b) a pelt of instanced feathers over a plane at 512x256 and (c) a close-up whose vane\n"
-        "fills the 256x256 frame, then the same rays traced\n"
-        "without shading. Rays are surface and shadow queries; 'shading x' is the cost of a shaded ray over a\n"
+        "fills the 256x256 frame, then the same rays traced without shading; and (d) one feather at 128x256\n"
+        "under the environment map alone: samples/s/thread against a constant environment of the map's mean,\n"
+        "and the error of MIS and of BSDF sampling alone against 16 times the samples, at equal time too.\n"
+        "Rays are surface and shadow queries; 'shading x' is the cost of a shaded ray over a\n"
         "trace-only ray (rays/s of the trace-only pass over rays/s of the shaded one). Peak memory is the\n"
         "process's so far (it includes the libraries and the first scene). The feather is generated from a\n"
         "species preset (run from the repository root, or give --species) and rendered with the feather BSDF.\n"
@@ -300,12 +398,15 @@ int bench_render(int argc, char **argv)
     o.kinds = strcmp(o.bcsdf, "both") == 0 ? 2 : 1;
     if (o.images && !plm_images_prefix_ok(o.images))
         return 1;
-    printf("%-30s %-10s %9s %4s %7s %16s %14s %14s %9s %8s %9s %9s\n", "scene", "bcsdf", "size", "spp", "threads",
-           "samples/s/thread", "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB", "shaded s");
+    if (strpbrk(o.cases, "abc"))
+        printf("%-30s %-10s %9s %4s %7s %16s %14s %14s %9s %8s %9s %9s\n", "scene", "bcsdf", "size", "spp", "threads",
+               "samples/s/thread", "rays/s/thread", "trace-only", "shading x", "build s", "peak MiB", "shaded s");
     char one[64], pelt[64];
     snprintf(one, sizeof one, "(a) one feather%s", o.vane_quad ? " (vane quad)" : "");
     snprintf(pelt, sizeof pelt, "(b) %d instanced feathers", o.feathers);
     if (run_case(one, "a", 1, 256, 512, &o) != 0 || run_case(pelt, "b", o.feathers, 512, 256, &o) != 0)
         return 1;
-    return run_case("(c) close-up of one feather", "c", 1, 256, 256, &o);
+    if (run_case("(c) close-up of one feather", "c", 1, 256, 256, &o) != 0)
+        return 1;
+    return run_env_case(&o);
 }
