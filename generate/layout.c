@@ -71,6 +71,7 @@ void plm_layout_extents_free(plm_layout_extent *e, int n)
         plm_mesh_free(&e[i].mesh[0]);
         plm_mesh_free(&e[i].mesh[1]);
         free(e[i].hull);
+        free(e[i].top);
     }
     free(e);
 }
@@ -129,6 +130,67 @@ static plm_result hull_of(plm_layout_extent *e, plm_error *err)
     return PLM_OK;
 }
 
+/* Raises the height map to the triangle a, b, c over the cells whose centres it covers. */
+static void raster_triangle(plm_layout_extent *e, const float *a, const float *b, const float *c)
+{
+    double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+    if (fabs(det) < 1e-12)
+        return;
+    double lo_x = fmin(a[0], fmin(b[0], c[0])), hi_x = fmax(a[0], fmax(b[0], c[0]));
+    double lo_y = fmin(a[1], fmin(b[1], c[1])), hi_y = fmax(a[1], fmax(b[1], c[1]));
+    int i0 = (int)fmax(0.0, ceil((lo_x - e->x0) / e->dx - 0.5)), i1 = (int)fmin(e->nx - 1, floor((hi_x - e->x0) / e->dx - 0.5));
+    int j0 = (int)fmax(0.0, ceil((lo_y - e->y0) / e->dy - 0.5)), j1 = (int)fmin(e->ny - 1, floor((hi_y - e->y0) / e->dy - 0.5));
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+            double x = e->x0 + (i + 0.5) * e->dx, y = e->y0 + (j + 0.5) * e->dy;
+            double u = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det;
+            double v = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det;
+            if (u < -1e-9 || v < -1e-9 || u + v > 1.0 + 1e-9)
+                continue;
+            float z = (float)(a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]));
+            float *t = &e->top[j * e->nx + i];
+            *t = fmaxf(*t, z);
+        }
+}
+
+/* The vane's height map (cells about a barb spacing's size: a quarter of a
+ * cage column across, an eighth of a row along) and bounding sphere. */
+static plm_result heights_of(plm_layout_extent *e, plm_error *err)
+{
+    const plm_mesh *m = &e->mesh[0];
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < m->vertex_count; ++i)
+        for (int c = 0; c < 3; ++c) {
+            lo[c] = fmin(lo[c], m->positions[3 * i + c]);
+            hi[c] = fmax(hi[c], m->positions[3 * i + c]);
+        }
+    e->nx = 4 * PLM_VANE_COLUMNS;
+    e->ny = 4 * PLM_VANE_ROWS;
+    e->x0 = lo[0], e->y0 = lo[1];
+    e->dx = fmax(hi[0] - lo[0], 1e-9) / e->nx;
+    e->dy = fmax(hi[1] - lo[1], 1e-9) / e->ny;
+    e->centre = v3(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
+    e->radius = 0.5 * v3_length(v3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
+    e->top = malloc(sizeof(float) * (size_t)(e->nx * e->ny));
+    if (!e->top)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a layout's prototype extents");
+    for (int i = 0; i < e->nx * e->ny; ++i)
+        e->top[i] = -INFINITY;
+    for (int t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *v = m->indices + 3 * t;
+        raster_triangle(e, m->positions + 3 * v[0], m->positions + 3 * v[1], m->positions + 3 * v[2]);
+    }
+    return PLM_OK;
+}
+
+double plm_layout_height(const plm_layout_extent *e, double x, double y)
+{
+    double fi = (x - e->x0) / e->dx, fj = (y - e->y0) / e->dy;
+    if (!(fi >= 0.0 && fj >= 0.0 && fi < e->nx && fj < e->ny))
+        return -INFINITY;
+    return e->top[(int)fj * e->nx + (int)fi];
+}
+
 static plm_result extent_of(const plm_layout_prototype *pr, plm_layout_extent *e, plm_error *err)
 {
     plm_outline o;
@@ -139,6 +201,8 @@ static plm_result extent_of(const plm_layout_prototype *pr, plm_layout_extent *e
         rc = plm_rachis_mesh(&o, 1, &e->mesh[1], err);
     if (rc == PLM_OK)
         rc = hull_of(e, err);
+    if (rc == PLM_OK)
+        rc = heights_of(e, err);
     e->length = pr->shape.length;
     e->rachis_radius = 0.5 * pr->shape.rachis_base_width;
     return rc;

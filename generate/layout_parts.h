@@ -20,7 +20,18 @@ typedef struct plm_layout_extent {
     int hull_count;
     double w_min;      /* the smallest squared distance of any vertex from the origin */
     double length, rachis_radius;
+    /* The vane as a height map over the feather frame's (x, y): the highest z
+     * of the vane above each cell's centre, -INFINITY where there is none.
+     * Feathers settle on the ones beneath them by it (generate/pelt.c). */
+    float *top;
+    int nx, ny;
+    double x0, y0, dx, dy;
+    vec3 centre;       /* the vane's bounding sphere */
+    double radius;
 } plm_layout_extent;
+
+/* The vane's height at feather-frame (x, y); -INFINITY off the vane. */
+double plm_layout_height(const plm_layout_extent *e, double x, double y);
 
 void plm_layout_extents_free(plm_layout_extent *e, int n);
 

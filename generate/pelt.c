@@ -389,21 +389,27 @@ static plm_result blue_noise(const surface *sf, vec3 axis, int count, double eff
 
 /* ---- Pelt ---- */
 
+/* Sets a feather's matrix for base angle alpha and base height h. */
+static void pose(const surface_point *root, const plm_layout_extent *e, double scale, double alpha, double h,
+                 double flatten, plm_layout_instance *in)
+{
+    vec3 n = root->n, t = rotate_about(root->flow, n, in->yaw);
+    vec3 tt = v3_add(v3_scale(t, cos(alpha)), v3_scale(n, sin(alpha)));
+    vec3 z = v3_sub(v3_scale(n, cos(alpha)), v3_scale(t, sin(alpha)));
+    plm_layout_set_matrix(in, v3_cross(tt, z), tt, v3_scale(z, flatten),
+                          v3_madd(root->p, n, e->rachis_radius * scale + h), scale);
+}
+
 /* Places one feather at a root: along the flow turned by its yaw, raised by
  * `elevation` plus its lift, then further (in half-degree steps, up to
  * max_elevation) until every point of the prototype is above the surface. */
 static void place_on_surface(const surface *sf, const surface_point *root, const plm_layout_extent *e, double scale,
                              double elevation, double max_elevation, plm_layout_instance *in)
 {
-    vec3 n = root->n;
-    vec3 t = rotate_about(root->flow, n, in->yaw);
-    vec3 origin = v3_madd(root->p, n, e->rachis_radius * scale);
     double alpha = fmin(elevation + in->lift, max_elevation);
     const double margin = 0.002 * e->length * scale, step = plm_radians(0.5);
     for (;;) {
-        vec3 tt = v3_add(v3_scale(t, cos(alpha)), v3_scale(n, sin(alpha)));
-        vec3 z = v3_sub(v3_scale(n, cos(alpha)), v3_scale(t, sin(alpha)));
-        plm_layout_set_matrix(in, v3_cross(tt, z), tt, z, origin, scale);
+        pose(root, e, scale, alpha, 0.0, 1.0, in);
         int clear;
         if (sf->s->kind == PLM_SURFACE_SPHERE) {
             clear = clear_of_sphere(sf, e, in, scale, alpha, margin);
@@ -424,6 +430,213 @@ static void place_on_surface(const surface *sf, const surface_point *root, const
     in->lift = alpha;
 }
 
+/* ---- Settling: each feather rests on the ones beneath it ---- */
+
+/* A placed feather's frame, read back from its matrix. */
+typedef struct placed_frame {
+    vec3 o, x, t, z; /* unit */
+    double s;        /* layout units per mm */
+    double k;        /* the dorsal axis's further scale: how much flatter than generated */
+    vec3 c;          /* settled feathers: the centre of the vane's bounding sphere */
+    double r;        /* and its radius */
+} placed_frame;
+
+static placed_frame frame_of(const plm_layout_instance *in)
+{
+    placed_frame f;
+    f.o = v3(in->m[0][3], in->m[1][3], in->m[2][3]);
+    vec3 c[3];
+    for (int k = 0; k < 3; ++k)
+        c[k] = v3(in->m[0][k], in->m[1][k], in->m[2][k]);
+    f.s = v3_length(c[1]);
+    f.k = v3_length(c[2]) / f.s;
+    f.x = v3_scale(c[0], 1.0 / f.s), f.t = v3_scale(c[1], 1.0 / f.s), f.z = v3_scale(c[2], 1.0 / (f.s * f.k));
+    return f;
+}
+
+typedef struct settle_state {
+    const surface *sf;
+    const surface_point *roots;
+    const plm_layout_extent *ext;
+    plm_layout *out;
+    placed_frame *frames;  /* of the feathers settled so far */
+    int *settled;   /* 1 once a feather is settled */
+    dart_grid grid; /* the roots, in cells of the largest reach */
+    double reach_max;
+    int *near;      /* scratch: candidate neighbours */
+    int *listed;    /* scratch: 1 + the feather whose neighbours last listed it (hashed cells may share a chain) */
+} settle_state;
+
+/* How far a feather's vane reaches from its root, in layout units (a fifth
+ * more: the base may lift while it settles). */
+static double reach_of(const plm_layout_extent *e, const plm_layout_instance *in)
+{
+    return frame_of(in).s * (v3_length(e->centre) + e->radius) * 1.2;
+}
+
+/* Where a placed feather's vane's bounding sphere is centred. */
+static vec3 sphere_centre(const placed_frame *f, const plm_layout_extent *e)
+{
+    vec3 c = v3_add(v3_add(v3_scale(f->x, e->centre.x), v3_scale(f->t, e->centre.y)),
+                    v3_scale(f->z, e->centre.z * f->k));
+    return v3_madd(f->o, c, f->s);
+}
+
+/* The settled feathers whose vanes might touch feather i's: their bounding
+ * spheres reach within feather i's reach of its root. */
+static int neighbours(settle_state *st, int i)
+{
+    const surface_point *p = &st->roots[i];
+    double reach = reach_of(&st->ext[st->out->instances[i].prototype], &st->out->instances[i]);
+    int n = 0;
+    for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int j = st->grid.head[cell_key(&st->grid, p->p, dx, dy, dz)]; j >= 0; j = st->grid.next[j]) {
+                    if (!st->settled[j] || st->listed[j] == i + 1)
+                        continue;
+                    const placed_frame *f = &st->frames[j];
+                    if (v3_length(v3_sub(f->c, p->p)) < reach + f->r)
+                        st->near[n++] = j, st->listed[j] = i + 1;
+                }
+    return n;
+}
+
+/* How far a point q must rise (along the neighbours' normals) to lie
+ * `margin` above every settled neighbour's vane under it; 0 if it does. */
+static double depth_below(const settle_state *st, const int *near, int n, vec3 q, double margin)
+{
+    double need = 0.0;
+    for (int k = 0; k < n; ++k) {
+        const placed_frame *f = &st->frames[near[k]];
+        const plm_layout_extent *e = &st->ext[st->out->instances[near[k]].prototype];
+        vec3 d = v3_sub(q, f->o);
+        vec3 qc = v3_sub(q, f->c);
+        if (v3_dot(qc, qc) > f->r * f->r)
+            continue;
+        double x = v3_dot(d, f->x) / f->s, y = v3_dot(d, f->t) / f->s, z = v3_dot(d, f->z) / (f->s * f->k);
+        double h = plm_layout_height(e, x, y);
+        if (h > -INFINITY)
+            need = fmax(need, (h - z) * f->s * f->k + margin);
+    }
+    return need;
+}
+
+/* How a feather may rise to clear what lies beneath it: turn up about its
+ * root, lift its base, or flatten (its dorsal axis scaled down, which lifts
+ * the curled edges and the bent tip toward the rachis' plane: a feather
+ * pressed onto the ones below). */
+typedef struct settle_step {
+    double turn, lift, flatten;
+} settle_step;
+
+/* The step that clears a point p of the feather (its frame f) that must rise
+ * by `need`: flattening as far as it helps, the rest by turning for a point
+ * far along the feather, by lifting for one near its root. */
+static void step_for(const float *p, const placed_frame *f, double alpha, double need, double least_flatten,
+                     double near_root, settle_step *s)
+{
+    double under = -p[2] * f->s; /* how far below the rachis' plane (layout units, unflattened) */
+    if (under > 0.0) {
+        double dk = fmin(need / under, f->k - least_flatten);
+        s->flatten = fmax(s->flatten, dk);
+        need -= dk * under;
+    }
+    if (need <= 0.0)
+        return;
+    if (p[1] > near_root)
+        s->turn = fmax(s->turn, need / (f->s * p[1] * cos(alpha)));
+    else
+        s->lift = fmax(s->lift, need);
+}
+
+/* Raises feather i until its vane lies `margin` above the skin and every
+ * settled neighbour's vane, in rounds of first-order steps (each round's
+ * largest needs set the next step, a tenth more). */
+static void settle_one(settle_state *st, int i, double max_elevation)
+{
+    plm_layout_instance *in = &st->out->instances[i];
+    const surface_point *root = &st->roots[i];
+    const plm_layout_extent *e = &st->ext[in->prototype];
+    int n = neighbours(st, i);
+    double scale = frame_of(in).s, alpha = in->lift, h = 0.0, flatten = 1.0;
+    const double margin = 0.003 * e->length * scale, near_root = 0.5 * e->length, least_flatten = 0.1;
+    pose(root, e, scale, alpha, h, flatten, in);
+    for (int round = 0; round < 24; ++round) {
+        placed_frame f = frame_of(in);
+        settle_step step = {0.0, 0.0, 0.0};
+        for (int m = 0; m < 2; ++m) /* the vane clears its neighbours' vanes, both clear the skin */
+            for (int v = 0; v < e->mesh[m].vertex_count; ++v) {
+                const float *p = e->mesh[m].positions + 3 * v;
+                vec3 q = plm_layout_apply(in, p);
+                double need = margin - surface_height(st->sf, root, q);
+                if (m == 0)
+                    need = fmax(need, depth_below(st, st->near, n, q, margin));
+                if (need > 0.0)
+                    step_for(p, &f, alpha, need, least_flatten, near_root, &step);
+            }
+        if (step.turn == 0.0 && step.lift == 0.0 && step.flatten == 0.0)
+            break;
+        /* An offset first: a turn for the same need would lift the tip far more. */
+        if (step.lift > 0.0)
+            h += 1.1 * step.lift;
+        else
+            alpha = fmin(alpha + 1.1 * step.turn, max_elevation);
+        flatten = fmax(flatten - 1.1 * step.flatten, least_flatten);
+        pose(root, e, scale, alpha, h, flatten, in);
+    }
+    in->lift = alpha;
+    st->frames[i] = frame_of(in);
+    st->frames[i].c = sphere_centre(&st->frames[i], e);
+    st->frames[i].r = e->radius * st->frames[i].s;
+    st->settled[i] = 1;
+}
+
+/* Settles the feathers from the bottom of the shingling (order 0) up. */
+static plm_result settle(const surface *sf, const surface_point *roots, const plm_layout_extent *ext,
+                         double max_elevation, plm_layout *out, plm_error *err)
+{
+    int count = out->instance_count;
+    settle_state st = {0};
+    st.sf = sf, st.roots = roots, st.ext = ext, st.out = out;
+    int *by_order = malloc(sizeof(int) * (size_t)count);
+    uint64_t size = 1;
+    while (size < 2 * (uint64_t)count)
+        size <<= 1;
+    st.frames = malloc(sizeof *st.frames * (size_t)count);
+    st.settled = calloc((size_t)count, sizeof(int));
+    st.near = malloc(sizeof(int) * (size_t)count);
+    st.listed = calloc((size_t)count, sizeof(int));
+    st.grid.head = malloc(sizeof(int) * size);
+    st.grid.next = malloc(sizeof(int) * (size_t)count);
+    plm_result rc = PLM_OK;
+    if (!by_order || !st.frames || !st.settled || !st.near || !st.listed || !st.grid.head || !st.grid.next)
+        rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory settling %d feathers", count);
+    for (int i = 0; rc == PLM_OK && i < count; ++i)
+        st.reach_max = fmax(st.reach_max, reach_of(&ext[out->instances[i].prototype], &out->instances[i]));
+    if (rc == PLM_OK) {
+        memset(st.grid.head, 0xff, sizeof(int) * size);
+        st.grid.mask = size - 1;
+        st.grid.cell = 2.0 * st.reach_max; /* neighbours' roots lie within two reaches */
+        for (int i = 0; i < count; ++i) {
+            uint64_t key = cell_key(&st.grid, roots[i].p, 0, 0, 0);
+            st.grid.next[i] = st.grid.head[key];
+            st.grid.head[key] = i;
+            by_order[out->instances[i].order] = i;
+        }
+        for (int k = 0; k < count; ++k)
+            settle_one(&st, by_order[k], max_elevation);
+    }
+    free(by_order);
+    free(st.frames);
+    free(st.settled);
+    free(st.near);
+    free(st.listed);
+    free(st.grid.head);
+    free(st.grid.next);
+    return rc;
+}
+
 typedef struct pelt_setup {
     int count;
     double length;         /* layout units of a scale-1 feather */
@@ -431,6 +644,7 @@ typedef struct pelt_setup {
     double elevation, max_elevation;
     plm_layout_ranges var;
     int variants;
+    int settle; /* lay each feather on those beneath it (pelts; a ball's stand free) */
 } pelt_setup;
 
 typedef struct flow_rank {
@@ -497,13 +711,18 @@ static plm_result pelt(const surface *sf, vec3 axis, const pelt_setup *ps, uint6
         plm_layout_draw_variation(&rng, &ps->var, in);
         in->scale *= roots[i].size;
         const plm_layout_extent *e = &ext[in->prototype];
-        place_on_surface(sf, &roots[i], e, in->scale * ps->length / e->length, ps->elevation, ps->max_elevation,
-                         in);
+        double scale = in->scale * ps->length / e->length;
+        if (ps->settle) /* settle() raises it */
+            pose(&roots[i], e, scale, (in->lift = ps->elevation + in->lift), 0.0, 1.0, in);
+        else
+            place_on_surface(sf, &roots[i], e, scale, ps->elevation, ps->max_elevation, in);
     }
     if (rc == PLM_OK) {
         out->instance_count = ps->count;
         rc = shingle_order(out, roots, axis, err);
     }
+    if (rc == PLM_OK && ps->settle)
+        rc = settle(sf, roots, ext, ps->max_elevation, out, err);
     plm_layout_extents_free(ext, out->prototype_count);
     free(roots);
     return rc;
@@ -552,6 +771,10 @@ plm_result plm_layout_pelt(const plm_pelt_params *p, const plm_layout_species *s
         if (!p->variation.none && !(p->variation.scale > 0.0))
             ps.var.scale = PLM_PELT_SCALE_VARIATION;
         ps.variants = p->variants > 0 ? p->variants : 4;
+        /* Rigid feathers settle on a plane; on a curved surface a straight
+         * feather's tip stands off it (docs/layouts.md), so they keep the
+         * placement that clears the surface alone. */
+        ps.settle = p->surface.kind == PLM_SURFACE_PLANE;
         rc = pelt(&sf, axis, &ps, p->seed, species, species_count, out, err);
     }
     surface_free(&sf);
@@ -589,6 +812,7 @@ plm_result plm_layout_ball(const plm_ball_params *p, const plm_layout_species *s
     ps.var.lift = spread; /* upright .. leaning by spread */
     ps.var.yaw = PLM_PI;  /* leaning any way */
     ps.variants = p->variants > 0 ? p->variants : 4;
+    ps.settle = 0;
     rc = pelt(&sf, v3(0, -1, 0), &ps, p->seed, species, species_count, out, err);
     if (rc != PLM_OK)
         plm_layout_free(out);

@@ -159,3 +159,105 @@ plm_camera plm_visibility_camera(const plm_world *w, vec3 from, int width, int h
     plm_camera_from_desc(&d, width, height, 1, &c);
     return c;
 }
+
+/* ---- Crossing pairs ---- */
+
+/* A set of ordered feather pairs (above, below), open addressing. */
+typedef struct pair_set {
+    uint64_t *keys; /* 0: empty */
+    size_t mask, count;
+} pair_set;
+
+static uint64_t pair_key(int above, int below) { return ((uint64_t)(uint32_t)above << 32) | (uint32_t)below; }
+
+static int pair_insert(pair_set *s, uint64_t key)
+{
+    if (2 * (s->count + 1) > s->mask + 1) {
+        size_t size = 2 * (s->mask + 1);
+        uint64_t *keys = calloc(size, sizeof *keys);
+        if (!keys)
+            return 0;
+        for (size_t i = 0; i <= s->mask; ++i)
+            for (size_t h = s->keys[i] ? s->keys[i] * 0x9e3779b97f4a7c15ull : 0; s->keys[i]; ++h)
+                if (!keys[h & (size - 1)]) {
+                    keys[h & (size - 1)] = s->keys[i];
+                    break;
+                }
+        free(s->keys);
+        s->keys = keys;
+        s->mask = size - 1;
+    }
+    for (size_t h = key * 0x9e3779b97f4a7c15ull;; ++h) {
+        uint64_t *k = &s->keys[h & s->mask];
+        if (*k == key)
+            return 1;
+        if (!*k) {
+            *k = key;
+            s->count++;
+            return 1;
+        }
+    }
+}
+
+static int pair_has(const pair_set *s, uint64_t key)
+{
+    for (size_t h = key * 0x9e3779b97f4a7c15ull;; ++h) {
+        uint64_t k = s->keys[h & s->mask];
+        if (k == key)
+            return 1;
+        if (!k)
+            return 0;
+    }
+}
+
+/* One ray: the vanes it crosses before the body, in order, each pair more
+ * than the tolerance apart added to the set as (nearer, farther). */
+static int crossing_ray(const plm_world *w, vec3 o, vec3 d, double tolerance, pair_set *set)
+{
+    int feather[PLM_VISIBILITY_MAX_LAYERS], n = 0, instance;
+    double at[PLM_VISIBILITY_MAX_LAYERS], t, tnear = 0.0;
+    while (n < PLM_VISIBILITY_MAX_LAYERS && plm_world_first_hit(w, o, d, tnear, INFINITY, &instance, &t)) {
+        const plm_instance *in = &w->scene->instances[instance];
+        if (in->part == PLM_PART_BODY)
+            break;
+        if (in->part == PLM_PART_VANE && in->feather > 0)
+            feather[n] = in->feather, at[n++] = t;
+        tnear = t + w->epsilon;
+    }
+    for (int a = 0; a < n; ++a)
+        for (int b = a + 1; b < n; ++b)
+            if (feather[a] != feather[b] && at[b] - at[a] > tolerance &&
+                !pair_insert(set, pair_key(feather[a], feather[b])))
+                return 0;
+    return 1;
+}
+
+plm_result plm_visibility_crossings(const plm_world *w, const plm_crossing_grid *g, plm_crossings *out,
+                                    plm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    pair_set set = {calloc(1024, sizeof(uint64_t)), 1023, 0};
+    if (!set.keys)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for the crossing pairs");
+    vec3 d = v3_normalize(g->dir);
+    for (int j = 0; j < g->nv; ++j)
+        for (int i = 0; i < g->nu; ++i) {
+            vec3 o = v3_add(g->origin, v3_add(v3_scale(g->u, (i + 0.5) / g->nu), v3_scale(g->v, (j + 0.5) / g->nv)));
+            out->rays++;
+            if (!crossing_ray(w, o, d, g->tolerance, &set)) {
+                free(set.keys);
+                return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for the crossing pairs");
+            }
+        }
+    out->ordered = (long long)set.count;
+    for (size_t k = 0; k <= set.mask; ++k) {
+        uint64_t key = set.keys[k];
+        int above = (int)(key >> 32), below = (int)(key & 0xffffffffu);
+        if (key && above < below && pair_has(&set, pair_key(below, above))) {
+            if (!out->pairs++)
+                out->example[0] = above, out->example[1] = below;
+        }
+    }
+    free(set.keys);
+    return PLM_OK;
+}

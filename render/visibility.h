@@ -67,6 +67,30 @@ typedef struct plm_visibility_summary {
 plm_result plm_visibility_summarise(const plm_visibility *v, int min_rays, plm_visibility_summary *s,
                                     plm_error *err);
 
+/* Vanes that pass through one another, found by rays: a grid of nu x nv
+ * parallel rays along `dir`, starting at origin + (i + 0.5)/nu u + (j + 0.5)/nv v,
+ * each followed through every surface until it meets the body. Two feathers'
+ * vanes pass through each other when some ray crosses the first before the
+ * second and another the second before the first, each time more than
+ * `tolerance` apart along the ray (closer, they touch: a feather resting on
+ * another). For sheets that each lie over the grid's plane once, as a
+ * pelt's feathers do seen along the surface normal, this is exact up to the
+ * grid's spacing. */
+typedef struct plm_crossing_grid {
+    vec3 origin, u, v, dir;
+    int nu, nv;
+    double tolerance;
+} plm_crossing_grid;
+
+typedef struct plm_crossings {
+    long long rays, ordered; /* rays traced; feather pairs seen in some order (each order once) */
+    int pairs;               /* feather pairs seen in both orders: passing through each other */
+    int example[2];          /* one such pair's feather ids (0 0 if none) */
+} plm_crossings;
+
+plm_result plm_visibility_crossings(const plm_world *w, const plm_crossing_grid *g, plm_crossings *out,
+                                    plm_error *err);
+
 /* n directions spread evenly over the sphere (a Fibonacci spiral), unit vectors. */
 vec3 plm_visibility_direction(int i, int n);
 

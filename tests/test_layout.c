@@ -104,19 +104,21 @@ static void pelt_counts_roots_and_surface(void **state)
         const plm_layout_instance *in = &l.instances[i];
         assert_true(in->prototype >= 0 && in->prototype < 4);
         used[in->prototype]++;
-        /* The calamus base on the surface, lifted by the rachis radius at most. */
+        /* The calamus base on the surface, lifted by the rachis radius and, where it settles on a
+         * neighbour's vane, by less than a tenth of its length (measured: up to 5.3%). */
         double s = v3_length(column(in, 0));
         double r = 0.5 * l.prototypes[in->prototype].shape.rachis_base_width * s;
-        assert_double_near(in->m[2][3], r, 1e-9);
+        assert_true(in->m[2][3] >= r - 1e-9 && in->m[2][3] <= r + 0.1 * s * l.prototypes[in->prototype].shape.length);
         assert_true(fabs(in->m[0][3]) <= 0.2 && fabs(in->m[1][3]) <= 0.15);
         /* Nothing of the full-resolution meshes below the plane. */
         assert_true(lowest_point(in, &f[in->prototype], plane_height, NULL) >= 0.0);
         /* Variation within its bounds (sizes down to 0.6 x 0.6 toward the head and the edges); tints in (0, 1]. */
         assert_true(in->scale >= 0.36 * 0.85 - 1e-12 && in->scale <= 1.15 + 1e-12);
         assert_true(in->tint.r > 0.0 && in->tint.r <= 1.0 && in->tint.g > 0.0 && in->tint.b <= 1.0);
-        /* Orthogonal frames: a rotation times the scale. */
+        /* Orthogonal frames: a rotation times the scale, the dorsal axis pressed flatter by at most 10x. */
         assert_double_near(v3_dot(column(in, 0), column(in, 1)), 0.0, 1e-12);
-        assert_double_near(v3_length(column(in, 2)), s, 1e-12);
+        assert_double_near(v3_dot(column(in, 1), column(in, 2)), 0.0, 1e-12);
+        assert_true(v3_length(column(in, 2)) >= 0.1 * s - 1e-12 && v3_length(column(in, 2)) <= s + 1e-12);
     }
     for (int k = 0; k < 4; ++k)
         assert_true(used[k] > 30);
@@ -176,7 +178,9 @@ static void pelt_covers_and_shingles(void **state)
     printf("rachis covered in its base half %.3f of the time; it comes out at %.2f of its length (%d feathers)\n",
            base, half, feathers);
     assert_true(base > 0.9);
-    assert_true(half > 0.58 && half < 0.76);
+    /* Settled feathers lie flat on those beneath, so the feathers beside them cover a little more than the
+     * feathers behind alone (0.67): out at 0.62-0.85 of the length. */
+    assert_true(half > 0.62 && half < 0.85);
     assert_true((double)under[STEPS - 1] / feathers < 0.1);
     free(o);
     plm_layout_free(&l);
@@ -219,7 +223,8 @@ static void sphere_pelt_and_ball(void **state)
     for (int i = 0; i < l.instance_count; ++i) {
         const plm_layout_instance *in = &l.instances[i];
         double s = v3_length(column(in, 0)), r = 0.5 * l.prototypes[in->prototype].shape.rachis_base_width * s;
-        assert_double_near(v3_length(v3(in->m[0][3], in->m[1][3], in->m[2][3])), radius + r, 1e-9);
+        double lifted = v3_length(v3(in->m[0][3], in->m[1][3], in->m[2][3])) - radius - r;
+        assert_double_near(lifted, 0.0, 1e-9); /* curved surfaces: not settled (docs/layouts.md) */
         assert_true(lowest_point(in, &f[in->prototype], sphere_height, &radius) >= 0.0);
     }
     free_prototypes(f, l.prototype_count);

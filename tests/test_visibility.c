@@ -131,11 +131,51 @@ static void cameras_around_frame_the_world(void **state)
     plm_scene_free(&s);
 }
 
+/* Crossing pairs: feathers 1 and 2 of build() lie one over the other 0.01
+ * apart (one order only); a third vane tilted 10 degrees about x through
+ * feather 1's centre passes through it (both orders, on either side of
+ * y = 0) and through feather 2 as well, which lies over the centre line too.
+ * With a tolerance above the tilted vane's largest height difference from
+ * them (0.5 sin 10 + 0.01 = 0.097), no pair counts. */
+static void crossing_pairs_are_found_by_rays(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_world w;
+    plm_error err = {{0}};
+    build(&s, &w);
+    plm_crossing_grid g = {v3(-0.5, -0.5, 1.0), v3(1, 0, 0), v3(0, 1, 0), v3(0, 0, -1), 50, 50, 0.001};
+    plm_crossings c;
+    assert_int_equal(plm_visibility_crossings(&w, &g, &c, &err), PLM_OK);
+    assert_int_equal(c.rays, 2500);
+    assert_int_equal(c.ordered, 1);
+    assert_int_equal(c.pairs, 0);
+    plm_world_free(&w);
+
+    plm_mesh quad;
+    assert_int_equal(plm_shape_quad(0.8, 1.0, 0.0, 1, &quad, &err), PLM_OK);
+    plm_material m = plm_diffuse_material("tilted", rgb_gray(0.5), 0.0);
+    plm_instance in = {.mesh = plm_scene_add_mesh(&s, "tilted", &quad), .material = plm_scene_add_material(&s, &m),
+                       .xform = plm_xform_rotate(v3(1, 0, 0), plm_radians(10.0)), .tint = rgb_gray(1.0),
+                       .feather = plm_scene_new_feather(&s), .part = PLM_PART_VANE};
+    assert_true(plm_scene_add_instance(&s, &in) >= 0);
+    assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+    assert_int_equal(plm_visibility_crossings(&w, &g, &c, &err), PLM_OK);
+    assert_int_equal(c.pairs, 2);
+    assert_int_equal(c.ordered, 5); /* 1 over 2, and the tilted vane both ways with each */
+    g.tolerance = 0.1;
+    assert_int_equal(plm_visibility_crossings(&w, &g, &c, &err), PLM_OK);
+    assert_int_equal(c.pairs, 0);
+    plm_world_free(&w);
+    plm_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(counts_are_the_projected_areas),
         cmocka_unit_test(cameras_around_frame_the_world),
+        cmocka_unit_test(crossing_pairs_are_found_by_rays),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
