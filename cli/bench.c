@@ -4,7 +4,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cli/commands.h"
 #include "cli/options.h"
@@ -14,6 +16,28 @@ double plm_bench_seconds(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int plm_bench_in_child(int (*measure)(void *ctx, void *figures), void *ctx, void *figures, size_t size)
+{
+    int fd[2];
+    if (pipe(fd) != 0)
+        return 0;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        int ok = measure(ctx, figures);
+        ssize_t n = write(fd[1], figures, size);
+        _exit(n == (ssize_t)size && ok ? 0 : 1);
+    }
+    close(fd[1]);
+    ssize_t n = pid > 0 ? read(fd[0], figures, size) : -1;
+    close(fd[0]);
+    int status = 1;
+    if (pid > 0)
+        waitpid(pid, &status, 0);
+    return n == (ssize_t)size && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 static int compare_doubles(const void *a, const void *b)
@@ -42,6 +66,7 @@ static const plm_subcommand benches[] = {
     {"generate", bench_generate, "one flight feather in memory: meshes + 1024x1024 textures, ms and peak memory"},
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
     {"scene", bench_scene, "scene files and pelts of 100 to 100,000 feathers: load, samples/s/thread, peak memory"},
+    {"export", bench_export, "glTF export of the 2,500-feather pelt and the default wing: seconds, file size, memory"},
     {"fiber", bench_fiber, "fiber BCSDF: single-thread ns per prepare+eval and prepare+sample, Fig. 7 fibers"},
     {NULL, NULL, NULL}, /* sentinel: benchmarks are added here as the parts land */
 };

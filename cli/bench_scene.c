@@ -92,40 +92,35 @@ static void measure(const char *file, const char *text, const char *tag, const b
     plm_scene_free(&scene);
 }
 
-/* measure() in a child process; its figures come back through a pipe (and
- * into *out if not NULL). */
+typedef struct scene_job {
+    const char *file, *text, *tag;
+    const bench_scene_options *o;
+} scene_job;
+
+static int measure_job(void *ctx, void *figs)
+{
+    const scene_job *j = ctx;
+    figures *f = figs;
+    measure(j->file, j->text, j->tag, j->o, f);
+    return f->ok;
+}
+
+/* measure() in a child process (plm_bench_in_child), its figures into *out if not NULL. */
 static int run_isolated(const char *label, const char *file, const char *text, const char *tag,
                         const bench_scene_options *o, figures *out)
 {
-    int fd[2];
     figures f = {0};
+    scene_job job = {file, text, tag, o};
+    int ok = plm_bench_in_child(measure_job, &job, &f, sizeof f) && f.ok;
     if (out)
-        *out = f;
-    if (pipe(fd) != 0)
-        return 1;
-    fflush(stdout);
-    pid_t pid = fork();
-    if (pid == 0) {
-        close(fd[0]);
-        measure(file, text, tag, o, &f);
-        ssize_t n = write(fd[1], &f, sizeof f);
-        _exit(n == (ssize_t)sizeof f && f.ok ? 0 : 1);
-    }
-    close(fd[1]);
-    ssize_t n = pid > 0 ? read(fd[0], &f, sizeof f) : -1;
-    close(fd[0]);
-    int status = 0;
-    if (pid > 0)
-        waitpid(pid, &status, 0);
-    if (n != (ssize_t)sizeof f || !f.ok) {
+        *out = ok ? f : (figures){0};
+    if (!ok) {
         printf("%-28s failed\n", label);
         return 1;
     }
     printf("%-28s %4dx%-4d %4d %3d %8d %8.2f %7.2f %8.2f %12.0f %10.2f %10.2f %9.1f\n", label, f.width, f.height,
            f.spp, f.threads, f.instances, f.load, f.build, f.seconds, f.samples_per_thread, f.us_per_sample,
            f.cpu_us_per_sample, f.peak_mib);
-    if (out)
-        *out = f;
     return 0;
 }
 

@@ -18,6 +18,7 @@ static const command commands[] = {
     {"params", cmd_params, "list the scene format's parameter blocks: fields, defaults, ranges, units"},
     {"render", cmd_render, "render a scene file to a linear EXR and a tone-mapped PNG (path tracer)"},
     {"fireflies", cmd_fireflies, "count a rendered EXR's fireflies and compare its mean with a reference's"},
+    {"export", cmd_export, "write a scene's feathers, bodies and baked materials as glTF 2.0 (.glb, .gltf)"},
     {"batch", cmd_batch, "run a manifest of render jobs or a parameter sweep, locally or as a Slurm job array"},
     {"bench", cmd_bench, "print performance figures (ns per call, samples per second, memory)"},
 };

@@ -19,6 +19,9 @@ target_include_directories(plumage_opensubdiv INTERFACE ${OSD_INCLUDE})
 # OpenMesh: the config works; its targets have no namespace.
 find_package(OpenMesh REQUIRED)
 
+# Assimp (glTF export, export/): its config works.
+find_package(assimp REQUIRED)
+
 pkg_check_modules(CJSON REQUIRED IMPORTED_TARGET libcjson)
 pkg_check_modules(CMOCKA REQUIRED IMPORTED_TARGET cmocka)
 find_package(Threads REQUIRED)

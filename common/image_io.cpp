@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <unistd.h>
 #include <vector>
@@ -69,6 +70,33 @@ static plm_result image_write(const char *path, int width, int height, int chann
         return plm_fail(err, PLM_ERR_IO, "%s: write failed: %s", path, msg.c_str());
     }
     return in_memory ? plm_write_file(path, bytes.data(), bytes.size(), err) : plm_output_commit(path, temp, err);
+}
+
+static plm_result encode_png(int width, int height, int channels, plm_pixel_type type, const void *data,
+                             unsigned char **bytes, size_t *size, plm_error *err)
+{
+    if (width <= 0 || height <= 0 || channels <= 0 || channels > 4 || type == PLM_PIXEL_FLOAT)
+        return plm_fail(err, PLM_ERR_INVALID, "PNG in memory: invalid image %dx%dx%d of %s", width, height, channels,
+                        type == PLM_PIXEL_FLOAT ? "floats (PNG holds 8 or 16 bits)" : "integers");
+    auto out = ImageOutput::create("png");
+    std::vector<unsigned char> buf;
+    OIIO::Filesystem::IOVecOutput proxy(buf);
+    if (!out || !out->set_ioproxy(&proxy))
+        return plm_fail(err, PLM_ERR_INTERNAL, "PNG in memory: OpenImageIO's PNG writer cannot write to memory");
+    ImageSpec spec(width, height, channels, oiio_type(type));
+    spec.attribute("oiio:UnassociatedAlpha", 1); // as image_write: the values as they are
+    bool ok = out->open("memory.png", spec) && out->write_image(oiio_type(type), data);
+    ok = out->close() && ok;
+    if (!ok) {
+        std::string msg = out->geterror();
+        return plm_fail(err, PLM_ERR_INTERNAL, "PNG in memory: %s", msg.c_str());
+    }
+    *bytes = (unsigned char *)std::malloc(buf.size() ? buf.size() : 1);
+    if (!*bytes)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "PNG in memory: out of memory");
+    std::memcpy(*bytes, buf.data(), buf.size());
+    *size = buf.size();
+    return PLM_OK;
 }
 
 static plm_result image_read(const char *path, int *width, int *height, int *channels, float **pixels,
@@ -144,6 +172,12 @@ static plm_result oiio_read(const char *path, int *width, int *height, int *chan
     return plm_guard(err, path, [&] { return image_read(path, width, height, channels, pixels, err); });
 }
 
+static plm_result oiio_encode_png(int width, int height, int channels, plm_pixel_type type, const void *data,
+                                  unsigned char **bytes, size_t *size, plm_error *err)
+{
+    return plm_guard(err, "PNG in memory", [&] { return encode_png(width, height, channels, type, data, bytes, size, err); });
+}
+
 static plm_result oiio_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
                                  plm_error *err)
 {
@@ -151,4 +185,4 @@ static plm_result oiio_draw_text(plm_image *img, int x, int y, int size_px, cons
 }
 
 extern "C" __attribute__((visibility("default"))) const plm_image_module plm_image_module_table = {
-    sizeof(plm_image_module), oiio_write, oiio_read, oiio_draw_text};
+    sizeof(plm_image_module), oiio_write, oiio_read, oiio_encode_png, oiio_draw_text};

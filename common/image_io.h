@@ -5,6 +5,7 @@
 #ifndef PLUMAGE_COMMON_IMAGE_IO_H
 #define PLUMAGE_COMMON_IMAGE_IO_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "common/error.h"
 
@@ -48,6 +49,12 @@ typedef enum plm_pixel_type {
 /* The format follows path's extension; data's element type is `type`. */
 plm_result plm_image_write(const char *path, int width, int height, int channels, plm_pixel_type type,
                            const void *data, plm_error *err);
+
+/* The same image as the bytes of a PNG file, in memory (type UINT8 or
+ * UINT16; a fourth channel is written as it is, unassociated alpha);
+ * *bytes is malloc'd (caller frees). For formats that embed images (glTF). */
+plm_result plm_image_encode_png(int width, int height, int channels, plm_pixel_type type, const void *data,
+                                unsigned char **bytes, size_t *size, plm_error *err);
 
 /* Reads a file as float with the reader of the format its extension names
  * (EXR, PNG, HDR, TIFF, JPEG...); *pixels is malloc'd (caller frees). */

@@ -122,6 +122,15 @@ plm_result plm_image_read(const char *path, int *width, int *height, int *channe
     return m ? m->read(path, width, height, channels, pixels, err) : PLM_ERR_INTERNAL;
 }
 
+plm_result plm_image_encode_png(int width, int height, int channels, plm_pixel_type type, const void *data,
+                                unsigned char **bytes, size_t *size, plm_error *err)
+{
+    *bytes = NULL;
+    *size = 0;
+    const plm_image_module *m = image_module("PNG in memory", err);
+    return m ? m->encode_png(width, height, channels, type, data, bytes, size, err) : PLM_ERR_INTERNAL;
+}
+
 plm_result plm_image_draw_text(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
                                plm_error *err)
 {

@@ -15,6 +15,8 @@ typedef struct plm_image_module {
     plm_result (*write)(const char *path, int width, int height, int channels, plm_pixel_type type,
                         const void *data, plm_error *err);
     plm_result (*read)(const char *path, int *width, int *height, int *channels, float **pixels, plm_error *err);
+    plm_result (*encode_png)(int width, int height, int channels, plm_pixel_type type, const void *data,
+                             unsigned char **bytes, size_t *size, plm_error *err);
     plm_result (*draw_text)(plm_image *img, int x, int y, int size_px, const char *text, const float color[3],
                             plm_error *err);
 } plm_image_module;

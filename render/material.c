@@ -64,11 +64,12 @@ static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_eval
 /* (1 - w) white + w c */
 static rgb mix_from_white(rgb c, double w) { return rgb_add(rgb_gray(1.0), rgb_scale(rgb_sub(c, rgb_gray(1.0)), w)); }
 
-/* The pigment image's colour factor at uv (see plm_material): never above 1,
- * so pigment only absorbs. Nearest texel: bands and barbs have sharp edges. */
-static rgb pigment_factor(const plm_material *m, vec2 uv)
+/* Nearest texel: bands and barbs have sharp edges. */
+rgb plm_material_pigment(const plm_material *m, vec2 uv)
 {
     const plm_image *p = &m->pigment;
+    if (!p->pixels)
+        return rgb_gray(1.0);
     const float *px = p->pixels + (size_t)p->channels * (size_t)plm_texel_nearest(p->width, p->height, uv);
     double band = px[PLM_PIGMENT_BANDS], tip = px[PLM_PIGMENT_TIP], barb = px[PLM_PIGMENT_BARB];
     rgb f = rgb_mul(mix_from_white(m->band_tint, band), mix_from_white(m->tip_tint, tip));
@@ -100,7 +101,7 @@ void plm_material_surface_finish(plm_hit *hit)
 {
     const plm_material *m = hit->material;
     if (hit->on_vane && m->pigment.pixels)
-        hit->tint = rgb_mul(hit->tint, pigment_factor(m, hit->uv));
+        hit->tint = rgb_mul(hit->tint, plm_material_pigment(m, hit->uv));
 }
 
 void plm_material_surface(plm_hit *hit)

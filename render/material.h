@@ -64,6 +64,10 @@ double plm_material_transmission(const plm_hit *hit, vec3 w);
 double plm_material_transmission_keep(plm_hit *hit, vec3 w);
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out);
 
+/* The pigment image's colour factor at uv on a feather's vane (see
+ * plm_material; 1 without an image): never above 1, so pigment only absorbs. */
+rgb plm_material_pigment(const plm_material *m, vec2 uv);
+
 /* Lambertian reflection on the side of wo (two-sided), albedo in [0, 1]. */
 void plm_diffuse_bsdf(const plm_hit *hit, vec3 wo, rgb albedo, plm_bsdf *out);
 

@@ -8,16 +8,19 @@
 #                                     the sanitizers) for the PLUMAGE_FUZZ build
 #                                     (docs/robustness.md)
 #   scripts/install-deps.sh --video   also ffmpeg, which turns turntable frames into an MP4
+#   scripts/install-deps.sh --blender also Blender and the numpy its glTF importer needs, for the
+#                                     `blender` tests (docs/assets.md)
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
           libembree-dev libopenimageio-dev openimageio-tools libosd-dev libopenmesh-dev
-          libcjson-dev libcmocka-dev fonts-dejavu-core)
+          libassimp-dev libcjson-dev libcmocka-dev fonts-dejavu-core)
 for arg in "$@"; do
     case "$arg" in
     --slurm) packages+=(slurmctld slurmd slurm-client munge) ;;
     --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
     --video) packages+=(ffmpeg) ;;
-    *) echo "usage: $0 [--slurm] [--fuzz] [--video]" >&2; exit 2 ;;
+    --blender) packages+=(blender python3-numpy) ;;
+    *) echo "usage: $0 [--slurm] [--fuzz] [--video] [--blender]" >&2; exit 2 ;;
     esac
 done
 missing=()

@@ -16,7 +16,7 @@
 #include "tests/chi_square.h"
 
 /* A feather material whose texture is vane everywhere with barbs at angle a (uv space). */
-static plm_material feather_material(const plm_feather_params *p, double a)
+static inline plm_material feather_material(const plm_feather_params *p, double a)
 {
     plm_material m;
     memset(&m, 0, sizeof m);
@@ -34,14 +34,14 @@ static plm_material feather_material(const plm_feather_params *p, double a)
     return m;
 }
 
-static void free_material(plm_material *m)
+static inline void free_material(plm_material *m)
 {
     plm_feather_texture_free(&m->texture);
     free(m->feather);
 }
 
 /* A hit on the plane z = 0 with u along x, v along y (toward the tip), normal +z. */
-static plm_hit plane_hit(const plm_material *m)
+static inline plm_hit plane_hit(const plm_material *m)
 {
     plm_hit h;
     memset(&h, 0, sizeof h);
@@ -56,7 +56,7 @@ static plm_hit plane_hit(const plm_material *m)
 }
 
 /* Uniform-sphere Monte Carlo of the integral of eval, with its standard error. */
-static void integrate_eval(const plm_bsdf *b, plm_rng *rng, int n, double *mean, double *se)
+static inline void integrate_eval(const plm_bsdf *b, plm_rng *rng, int n, double *mean, double *se)
 {
     double sum = 0.0, sum2 = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -73,7 +73,7 @@ static void integrate_eval(const plm_bsdf *b, plm_rng *rng, int n, double *mean,
  * divided by 1 - w_t) over the sphere, by n uniform samples, must equal the
  * weighted lobe energy of its lobe sets within z_max standard errors.
  * Returns the albedo (1 - w_t) x lobe energy + w_t, which is at most 1. */
-static double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, double z_max, const char *label)
+static inline double furnace_albedo(const plm_hit *hit, vec3 wo, plm_rng *rng, int n, double z_max, const char *label)
 {
     plm_bsdf b;
     plm_material_bsdf(hit, wo, rng, &b);
@@ -151,7 +151,7 @@ static double cell_probability(const plm_bsdf *b, const frame *f, int it, int ip
  * against the pdf integrated over each cell (cell_probability), each sample
  * checked on its own (check_sample). Returns the p-value of Pearson's
  * chi-square. */
-static double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
+static inline double chi_square(const plm_bsdf *b, plm_rng *rng, int n)
 {
     static double observed[THETA_BINS * PHI_BINS], expected[THETA_BINS * PHI_BINS];
     memset(observed, 0, sizeof observed);
