@@ -71,6 +71,10 @@ static const plm_param sky_params[] = {
      "the sun's angular diameter (0.53 real); larger softens shadows, keeping its irradiance", 0},
     {"ground_albedo", PLM_PARAM_RGB, offsetof(plm_light, sky.ground_albedo), 0.0, 1.0, "",
      "below the horizon: a diffuse ground of this albedo lit by the sky and sun", 0},
+    {"latitude", PLM_PARAM_ANGLE, offsetof(plm_light, sky.latitude), -90.0, 90.0, "degrees",
+     "with time: where the sky is seen from, north positive", 0},
+    {"longitude", PLM_PARAM_ANGLE, offsetof(plm_light, sky.longitude), -180.0, 180.0, "degrees",
+     "with time: east positive", 0},
     INTENSITY,
     UP,
     VISIBLE,
@@ -78,7 +82,8 @@ static const plm_param sky_params[] = {
 };
 const plm_param_block plm_sky_light_param_block = {
     "sky", "a clear sky and sun (Preetham et al. 1999); radiance 1 = 39,322 cd/m^2, what saturates a camera at "
-           "EV 15 (sunny 16)",
+           "EV 15 (sunny 16). The sun stands at sun_elevation and sun_azimuth, or where it is seen from latitude "
+           "and longitude at \"time\", an ISO 8601 local time with its offset (\"2026-06-21T09:30+02:00\")",
     sky_params, PLM_PARAM_COUNT(sky_params)};
 
 static const plm_param distant_params[] = {

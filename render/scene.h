@@ -56,6 +56,7 @@ typedef struct plm_sky_params {
     double sun_size;      /* angular diameter of the sun's disk, radians; its irradiance does not change with it */
     int sun;              /* 0: the sky without the sun's disk */
     rgb ground_albedo;    /* below the horizon: a diffuse ground lit by this sky and sun */
+    double latitude, longitude; /* radians, north and east positive: with a scene's "time", where the sun is seen */
 } plm_sky_params;
 
 typedef struct plm_light {

@@ -6,6 +6,7 @@
 #include "render/colour.h"
 
 #include <math.h>
+#include <stdio.h>
 
 /* Luminous efficacy of radiation at 555 nm, lm/W. */
 #define PLM_LUMINOUS_EFFICACY 683.0
@@ -146,4 +147,62 @@ void plm_sky_model_init(const plm_sky_params *p, plm_sky_model *m)
     m->ground = rgb_gray(0.0);
     rgb e = rgb_add(sky_irradiance(m), rgb_scale(m->sun_irradiance, fmax(m->sun.y, 0.0)));
     m->ground = rgb_scale(rgb_mul(p->ground_albedo, e), 1.0 / PLM_PI);
+}
+
+void plm_sun_position(double latitude, double longitude, double julian_day, double *elevation, double *azimuth)
+{
+    double n = julian_day - 2451545.0; /* days from J2000.0 */
+    double mean_longitude = plm_radians(280.460 + 0.9856474 * n), anomaly = plm_radians(357.528 + 0.9856003 * n);
+    double ecliptic = mean_longitude + plm_radians(1.915 * sin(anomaly) + 0.020 * sin(2.0 * anomaly));
+    double obliquity = plm_radians(23.439 - 0.0000004 * n);
+    double right_ascension = atan2(cos(obliquity) * sin(ecliptic), cos(ecliptic));
+    double declination = asin(sin(obliquity) * sin(ecliptic));
+    double sidereal = plm_radians(fmod(280.46061837 + 360.98564736629 * n, 360.0)); /* Greenwich, mean */
+    double hour_angle = sidereal + longitude - right_ascension;
+    *elevation = asin(plm_clamp(sin(latitude) * sin(declination) + cos(latitude) * cos(declination) * cos(hour_angle),
+                                -1.0, 1.0));
+    *azimuth = atan2(-cos(declination) * sin(hour_angle),
+                     sin(declination) * cos(latitude) - cos(declination) * cos(hour_angle) * sin(latitude));
+}
+
+/* Julian date at 0h UT of a Gregorian calendar date (Meeus, Astronomical Algorithms, ch. 7). */
+static double julian_day_of_date(int year, int month, int day)
+{
+    if (month <= 2)
+        year -= 1, month += 12;
+    int century = year / 100, gregorian = 2 - century + century / 4;
+    return floor(365.25 * (year + 4716)) + floor(30.6001 * (month + 1)) + day + gregorian - 1524.5;
+}
+
+int plm_julian_day_parse(const char *text, double *julian_day)
+{
+    int year, month, day, hour, minute, used = 0;
+    double second = 0.0;
+    if (sscanf(text, "%4d-%2d-%2dT%2d:%2d%n", &year, &month, &day, &hour, &minute, &used) != 5 || used != 16)
+        return 0;
+    const char *rest = text + used;
+    if (*rest == ':') {
+        int more = 0;
+        if (sscanf(rest, ":%lf%n", &second, &more) != 1 || !(second >= 0.0 && second < 60.0))
+            return 0;
+        rest += more;
+    }
+    double offset = 0.0;
+    if (*rest == 'Z') {
+        ++rest;
+    } else {
+        int oh, om, more = 0;
+        if ((*rest != '+' && *rest != '-') || sscanf(rest + 1, "%2d:%2d%n", &oh, &om, &more) != 2 || more != 5 ||
+            oh > 14 || om > 59)
+            return 0;
+        offset = (*rest == '-' ? -1.0 : 1.0) * (oh + om / 60.0);
+        rest += 1 + more;
+    }
+    static const int days_in_month[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    int leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+    if (*rest || month < 1 || month > 12 || day < 1 || day > days_in_month[month - 1] ||
+        (month == 2 && day == 29 && !leap) || hour > 23 || minute > 59)
+        return 0;
+    *julian_day = julian_day_of_date(year, month, day) + (hour + minute / 60.0 + second / 3600.0 - offset) / 24.0;
+    return 1;
 }

@@ -45,4 +45,16 @@ rgb plm_sky_radiance(const plm_sky_model *m, vec3 d);
 double plm_sky_zenith_luminance(double turbidity, double sun_zenith);
 rgb plm_sun_radiance(double turbidity, double sun_zenith);
 
+/* The sun's place seen from a latitude and longitude (radians, north and
+ * east positive) at a Julian date in universal time, from the Astronomical
+ * Almanac's low-precision solar coordinates (within 0.01 degrees from 1950
+ * to 2050): its elevation above the horizon (negative below it; no
+ * refraction) and its azimuth from north toward east. */
+void plm_sun_position(double latitude, double longitude, double julian_day, double *elevation, double *azimuth);
+
+/* The Julian date of an ISO 8601 local date and time with its offset from
+ * universal time ("2026-06-21T09:30+02:00", seconds optional, "Z" for UT).
+ * Returns 0 if the text is not one. */
+int plm_julian_day_parse(const char *text, double *julian_day);
+
 #endif

@@ -13,6 +13,7 @@
 #include "optics/feather_bsdf.h"
 #include "optics/pigment.h"
 #include "render/film.h"
+#include "render/sky.h"
 #include "scene/feathers.h"
 #include "scene/layout_block.h"
 #include "texture/feather.h"
@@ -145,6 +146,39 @@ static plm_result read_environment_map(const plm_json_reader *r, const cJSON *ob
     return PLM_OK;
 }
 
+/* A sky's sun from a place and a time: "time" with latitude and longitude
+ * instead of sun_elevation and sun_azimuth. */
+static plm_result read_sun_time(const plm_json_reader *r, const cJSON *obj, const char *path, plm_light *l)
+{
+    const char *time = NULL;
+    plm_result rc = plm_json_string(r, obj, path, "time", NULL, &time);
+    int has_place = cJSON_HasObjectItem(obj, "latitude") || cJSON_HasObjectItem(obj, "longitude");
+    if (rc != PLM_OK || (!time && !has_place))
+        return rc;
+    if (!time)
+        return plm_json_fail(r, path, cJSON_HasObjectItem(obj, "latitude") ? "latitude" : "longitude",
+                             "places the sun only with \"time\" (e.g. \"2026-06-21T09:30+02:00\")");
+    if (!cJSON_HasObjectItem(obj, "latitude") || !cJSON_HasObjectItem(obj, "longitude"))
+        return plm_json_fail(r, path, "time", "needs both latitude and longitude, in degrees");
+    if (cJSON_HasObjectItem(obj, "sun_elevation") || cJSON_HasObjectItem(obj, "sun_azimuth"))
+        return plm_json_fail(r, path, "time", "places the sun itself: give it or sun_elevation and sun_azimuth, "
+                                              "not both");
+    double julian_day, elevation, azimuth;
+    if (!plm_julian_day_parse(time, &julian_day))
+        return plm_json_fail(r, path, "time",
+                             "\"%s\" is not an ISO 8601 local date and time with its offset from UT, such as "
+                             "\"2026-06-21T09:30+02:00\" or \"2026-06-21T07:30Z\"",
+                             time);
+    plm_sun_position(l->sky.latitude, l->sky.longitude, julian_day, &elevation, &azimuth);
+    if (elevation < 0.0)
+        return plm_json_fail(r, path, "time", "the sun is %.1f degrees below the horizon there at %s; the sky model "
+                                              "needs it above (0 to 90 degrees)",
+                             -plm_degrees(elevation), time);
+    l->sky.sun_elevation = elevation;
+    l->sky.sun_azimuth = azimuth;
+    return PLM_OK;
+}
+
 static plm_result read_light(const plm_json_reader *r, const cJSON *obj, const char *path, plm_light *l)
 {
     static const char *const types[] = {"environment", "sky", "distant", "sphere", "quad", NULL};
@@ -153,7 +187,8 @@ static plm_result read_light(const plm_json_reader *r, const cJSON *obj, const c
     const plm_param_block *blocks[] = {&plm_environment_light_param_block, &plm_sky_light_param_block,
                                        &plm_distant_light_param_block, &plm_sphere_light_param_block,
                                        &plm_quad_light_param_block};
-    static const char *const map_extra[] = {"type", "map", NULL}, *const type_extra[] = {"type", NULL};
+    static const char *const map_extra[] = {"type", "map", NULL}, *const sky_extra[] = {"type", "time", NULL},
+                             *const type_extra[] = {"type", NULL};
     int type = -1;
     *l = plm_light_default(PLM_LIGHT_CONSTANT_ENV); /* the caller frees l->image whatever the result */
     if (!cJSON_IsObject(obj))
@@ -165,8 +200,10 @@ static plm_result read_light(const plm_json_reader *r, const cJSON *obj, const c
     if (rc != PLM_OK)
         return rc;
     *l = plm_light_default(light_types[type]);
-    /* Only the environment has a "map". */
-    rc = plm_params_read(r, obj, path, blocks[type], type == 0 ? map_extra : type_extra, l);
+    /* Only the environment has a "map", only the sky a "time". */
+    rc = plm_params_read(r, obj, path, blocks[type], type == 0 ? map_extra : type == 1 ? sky_extra : type_extra, l);
+    if (rc == PLM_OK && type == 1)
+        rc = read_sun_time(r, obj, path, l);
     if (rc != PLM_OK)
         return rc;
     if (v3_length(l->up) == 0.0)
@@ -685,7 +722,8 @@ static plm_result read_species_feather(loader *ld, const plm_json_reader *r, con
         /* The species written out here: its messages name this file and path. */
         q.inline_species = inline_species;
         snprintf(species_file, sizeof species_file, "%s", r->file);
-        snprintf(inline_path, sizeof inline_path, "%s.species", path);
+        if (snprintf(inline_path, sizeof inline_path, "%s.species", path) >= (int)sizeof inline_path)
+            rc = plm_json_fail(r, path, "species", "nested too deep to be named in messages");
     } else if (rc == PLM_OK && inline_species && !cJSON_IsString(inline_species)) {
         rc = plm_json_fail(r, path, "species", "expected a species file (a string) or the species itself (an object)");
     } else if (rc == PLM_OK) {

@@ -132,6 +132,18 @@ bad_scene "out of range" "bad.json: camera.fov: 0 is out of range \[0.01, 179\]"
 bad_scene "unknown view" "bad.json: film.view: .*\"filmic\"" '{"film": {"view": "vivid"}}'
 bad_scene "bad enum" "bad.json: lights\[0\].type: \"spot\" is not one of \"environment\", \"sky\", \"distant\", \"sphere\", \"quad\"" \
     '{"lights": [{"type": "spot"}]}'
+bad_scene "sky time without a place" "bad.json: lights\[0\].time: needs both latitude and longitude" \
+    '{"lights": [{"type": "sky", "time": "2026-06-21T09:30+02:00", "latitude": 48}]}'
+bad_scene "sky place without a time" "bad.json: lights\[0\].latitude: places the sun only with \"time\"" \
+    '{"lights": [{"type": "sky", "latitude": 48, "longitude": 11}]}'
+bad_scene "sky time and angles" "bad.json: lights\[0\].time: places the sun itself" \
+    '{"lights": [{"type": "sky", "time": "2026-06-21T09:30+02:00", "latitude": 48, "longitude": 11, "sun_azimuth": 90}]}'
+bad_scene "sky time malformed" "bad.json: lights\[0\].time: \"2026-06-21 09:30\" is not an ISO 8601" \
+    '{"lights": [{"type": "sky", "time": "2026-06-21 09:30", "latitude": 48, "longitude": 11}]}'
+bad_scene "sky at night" "bad.json: lights\[0\].time: the sun is [0-9.]+ degrees below the horizon" \
+    '{"lights": [{"type": "sky", "time": "2026-06-21T23:30+02:00", "latitude": 48, "longitude": 11}]}'
+bad_scene "latitude out of range" "bad.json: lights\[0\].latitude: 91 is out of range \[-90, 90\]" \
+    '{"lights": [{"type": "sky", "time": "2026-06-21T09:30+02:00", "latitude": 91, "longitude": 11}]}'
 bad_scene "missing mask file" "bad.json: materials.m.mask: .*nope.png" '{"materials": {"m": {"mask": "nope.png"}}}'
 bad_scene "missing mesh file" "bad.json: meshes.m.file: .*nope.ply" '{"meshes": {"m": {"file": "nope.ply"}}}'
 bad_scene "undefined material" "objects\[0\].material: \"x\" is not defined" \

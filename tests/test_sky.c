@@ -2,7 +2,9 @@
  * worked out from the paper by hand and against daylight measurements: the
  * zenith's luminance, the Perez function's normalisation, the sun's
  * illuminance and reddening, the sky's symmetry about the sun, and the
- * ground below the horizon as the irradiance the sky and sun give it. */
+ * ground below the horizon as the irradiance the sky and sun give it; the
+ * sun's place from a time and a place against the almanac's equinox and
+ * solstice and the geometry of noon. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -125,6 +127,64 @@ static void ground_is_lit_by_sky_and_sun(void **state)
     assert_double_near(plm_sky_radiance(&m, v3(0.0, -1.0, 0.0)).g, m.ground.g, 0.0);
 }
 
+static double julian(const char *text)
+{
+    double jd = 0.0;
+    if (!plm_julian_day_parse(text, &jd))
+        fail_msg("\"%s\" refused", text);
+    return jd;
+}
+
+/* J2000.0 is 2000-01-01 12:00 UT, JD 2451545.0, however the offset writes it;
+ * malformed or impossible times are refused. */
+static void times_parse_to_julian_days(void **state)
+{
+    (void)state;
+    assert_double_near(julian("2000-01-01T12:00Z"), 2451545.0, 1e-9);
+    assert_double_near(julian("2000-01-01T14:00+02:00"), 2451545.0, 1e-9);
+    assert_double_near(julian("1999-12-31T23:30:00-12:30"), 2451545.0, 1e-9);
+    assert_double_near(julian("2024-02-29T00:00Z") - julian("2024-02-28T00:00Z"), 1.0, 1e-9);
+    assert_double_near(julian("2026-03-01T00:00Z") - julian("2026-02-28T00:00Z"), 1.0, 1e-9);
+    const char *bad[] = {"2026-06-21T09:30",       "2026-06-21 09:30Z", "2026-02-29T10:00Z", "2026-13-01T00:00Z",
+                         "2026-06-21T24:00Z",      "2026-06-21T09:60Z", "2026-06-21T09:30+2", "2026-06-21T09:30Zx",
+                         "2026-06-21T09:30:61Z", "summer"};
+    double jd;
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i)
+        if (plm_julian_day_parse(bad[i], &jd))
+            fail_msg("\"%s\" accepted", bad[i]);
+}
+
+static void sun_at(double lat, double lon, const char *time, double *elevation, double *azimuth)
+{
+    plm_sun_position(plm_radians(lat), plm_radians(lon), julian(time), elevation, azimuth);
+    *elevation = plm_degrees(*elevation);
+    *azimuth = fmod(plm_degrees(*azimuth) + 360.0, 360.0);
+}
+
+/* From the pole the sun's elevation is its declination: 0 at the March
+ * equinox (2026-03-20 14:46 UT) and the obliquity, 23.436 degrees, at the
+ * June solstice (2026-06-21 08:24 UT), whatever the hour. At Greenwich's
+ * noon that day (12:01:36 UT, the equation of time -1.6 min) the sun stands
+ * due south at 90 - 51.477 + 23.436 = 61.959 degrees, and the morning and
+ * afternoon mirror each other about the meridian, the morning's in the east. */
+static void sun_position_from_time_and_place(void **state)
+{
+    (void)state;
+    double e, a, e2, a2;
+    sun_at(90.0, 0.0, "2026-03-20T14:46Z", &e, &a);
+    assert_double_near(e, 0.0, 0.02);
+    sun_at(90.0, 120.0, "2026-06-21T08:24Z", &e, &a);
+    assert_double_near(e, 23.436, 0.02);
+    sun_at(51.477, 0.0, "2026-06-21T13:01:36+01:00", &e, &a);
+    assert_double_near(e, 61.959, 0.05);
+    assert_double_near(a, 180.0, 1.0);
+    sun_at(51.477, 0.0, "2026-06-21T08:01:36Z", &e, &a);
+    sun_at(51.477, 0.0, "2026-06-21T16:01:36Z", &e2, &a2);
+    assert_double_near(e, e2, 0.1);
+    assert_double_near(a + a2, 360.0, 0.3);
+    assert_true(a > 60.0 && a < 120.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -132,6 +192,8 @@ int main(void)
         cmocka_unit_test(sun),
         cmocka_unit_test(symmetry_and_circumsolar_glow),
         cmocka_unit_test(ground_is_lit_by_sky_and_sun),
+        cmocka_unit_test(times_parse_to_julian_days),
+        cmocka_unit_test(sun_position_from_time_and_place),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
