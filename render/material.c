@@ -1,6 +1,7 @@
 /* Materials behind the plm_bsdf interface: the diffuse BSDF here, the feather
  * (optics/feather_bsdf.c) dispatched to by type. */
 #include "render/material.h"
+#include "optics/coat.h"
 #include "optics/feather_bsdf.h"
 #include "optics/nearfield.h"
 #include "common/sampling.h"
@@ -136,6 +137,11 @@ double plm_material_transmission_keep(plm_hit *hit, vec3 w)
 void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
 {
     const plm_material *m = hit->material;
+    if (m->type == PLM_MATERIAL_COAT) {
+        plm_coat coat = {rgb_mul(m->reflectance, hit->tint), m->roughness, m->ior};
+        plm_coat_bsdf(&coat, v3_dot(wo, hit->ng) >= 0.0 ? hit->n : v3_neg(hit->n), wo, out);
+        return;
+    }
     /* Diffuse materials, and a feather's rachis: the material's reflectance. */
     plm_diffuse_bsdf(hit, wo, rgb_mul(m->reflectance, hit->tint), out);
     if (hit->on_vane) {

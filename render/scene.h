@@ -83,7 +83,8 @@ plm_light plm_light_default(plm_light_type type);
 
 typedef enum plm_material_type {
     PLM_MATERIAL_DIFFUSE = 0,
-    PLM_MATERIAL_FEATHER = 1
+    PLM_MATERIAL_FEATHER = 1,
+    PLM_MATERIAL_COAT = 2 /* a glossy dielectric coat over a diffuse base (optics/coat.h) */
 } plm_material_type;
 
 struct plm_feather_params; /* optics/feather_bsdf.h */
@@ -93,6 +94,8 @@ typedef struct plm_material {
     plm_material_type type;
     rgb reflectance;     /* diffuse albedo; for a feather, the rachis colour */
     double transmission; /* diffuse: fraction of light passing straight through (a perforated sheet) */
+    double roughness;    /* coat: GGX alpha of the coat, reflectance its base's albedo */
+    double ior;          /* coat: the coat's index of refraction */
     plm_feather_texture texture;             /* feather only */
     struct plm_feather_params *feather;      /* feather only, malloc'd */
     int shares_feather; /* feather belongs to an earlier material: feathers of one species share their

@@ -236,10 +236,9 @@ static plm_result add_base(const plm_json_reader *r, const cJSON *obj, const cha
     return plm_scene_add_instance(scene, &in) < 0 ? plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory") : PLM_OK;
 }
 
-/* Generates each prototype once and places every instance. */
-static plm_result place(const plm_json_reader *r, const char *path, const plm_layout *layout, const species_list *sl,
-                        int level, int texture_size, uint64_t seed, int ordinal, const plm_xform *xform,
-                        plm_scene *scene, plm_feather_cache *cache)
+plm_result plm_layout_block_place(const plm_json_reader *r, const char *path, const plm_layout *layout,
+                                  const char *const *species_files, int level, int texture_size, uint64_t seed,
+                                  int ordinal, const plm_xform *xform, plm_scene *scene, plm_feather_cache *cache)
 {
     plm_feather_parts *parts = calloc((size_t)layout->prototype_count, sizeof *parts);
     if (!parts && layout->prototype_count)
@@ -249,7 +248,7 @@ static plm_result place(const plm_json_reader *r, const char *path, const plm_la
         const plm_layout_prototype *pr = &layout->prototypes[k];
         char name[PLM_NAME_MAX];
         snprintf(name, sizeof name, "layout%d.%d", ordinal, k);
-        plm_feather_request q = {sl->file[pr->species], level, texture_size, k + 1,
+        plm_feather_request q = {species_files[pr->species], level, texture_size, k + 1,
                                  plm_hash64(seed, (uint64_t)ordinal, 0x1a70u), &pr->shape, &pr->pigment, NULL, NULL};
         if ((rc = plm_feather_cache_get(cache, scene, name, &q, &parts[k], r->err)) != PLM_OK)
             plm_error_prefix(r->err, "%s: %s: ", r->file, path);
@@ -325,8 +324,11 @@ plm_result plm_layout_block_read(const plm_json_reader *r, const cJSON *obj, con
             plm_error_prefix(r->err, "%s: %s: ", r->file, path);
     }
     uint64_t seed = type == 0 ? pelt.seed : type == 1 ? ball.seed : wing.seed;
+    const char *files[MAX_LAYOUT_SPECIES];
+    for (int i = 0; i < sl->count; ++i)
+        files[i] = sl->file[i];
     if (rc == PLM_OK)
-        rc = place(r, path, &layout, sl, level, texture_size, seed, ordinal, xform, scene, cache);
+        rc = plm_layout_block_place(r, path, &layout, files, level, texture_size, seed, ordinal, xform, scene, cache);
     plm_surface core = {PLM_SURFACE_SPHERE, 0.0, 0.0, ball.radius > 0.0 ? ball.radius : 1.0, NULL};
     if (rc == PLM_OK && type != 2)
         rc = add_base(r, obj, path, type == 0 ? &pelt.surface : &core, mesh_index, xform, scene);

@@ -14,6 +14,7 @@
 #include "optics/pigment.h"
 #include "render/film.h"
 #include "render/sky.h"
+#include "scene/bird_block.h"
 #include "scene/feathers.h"
 #include "scene/layout_block.h"
 #include "texture/feather.h"
@@ -405,9 +406,24 @@ static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const
     return rc;
 }
 
+/* {"type": "coat", "reflectance": base albedo, "roughness": GGX alpha, "ior"} */
+static plm_result read_coat(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
+{
+    static const char *const keys[] = {"type", "reflectance", "roughness", "ior", NULL};
+    m->type = PLM_MATERIAL_COAT;
+    plm_result rc = plm_json_check_object(r, obj, path, keys);
+    if (rc == PLM_OK)
+        rc = plm_json_rgb(r, obj, path, "reflectance", rgb_gray(0.5), 0.0, 1.0, &m->reflectance);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "roughness", 0.2, 0.01, 1.0, &m->roughness);
+    if (rc == PLM_OK)
+        rc = plm_json_number(r, obj, path, "ior", 1.5, 1.01, 3.0, &m->ior);
+    return rc;
+}
+
 static plm_result read_material(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
-    static const char *const types[] = {"diffuse", "feather", NULL};
+    static const char *const types[] = {"diffuse", "feather", "coat", NULL};
     static const char *const diffuse_keys[] = {"type", "reflectance", "transmission", "mask", NULL};
     int type = 0;
     if (!cJSON_IsObject(obj))
@@ -417,6 +433,8 @@ static plm_result read_material(const plm_json_reader *r, const cJSON *obj, cons
         return rc;
     if (type == 1)
         return read_feather(r, obj, path, m);
+    if (type == 2)
+        return read_coat(r, obj, path, m);
     rc = plm_json_check_object(r, obj, path, diffuse_keys);
     if (rc == PLM_OK)
         rc = plm_json_rgb(r, obj, path, "reflectance", rgb_gray(0.5), 0.0, 1.0, &m->reflectance);
@@ -582,10 +600,22 @@ static plm_result read_layout_object(loader *ld, const plm_json_reader *r, const
     return rc;
 }
 
+/* {"bird": FILE, "transform": ..., ...}: a whole bird (scene/bird_block.h). */
+static plm_result read_bird_object(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path)
+{
+    plm_xform xform;
+    plm_result rc = read_transform(r, cJSON_GetObjectItemCaseSensitive(obj, "transform"), path, &xform);
+    if (rc == PLM_OK)
+        rc = plm_bird_block_read(r, obj, path, &xform, ld->scene, &ld->cache, &ld->layout_count);
+    return rc;
+}
+
 static plm_result read_object(loader *ld, const plm_json_reader *r, const cJSON *obj, const char *path)
 {
     if (cJSON_IsObject(obj) && cJSON_GetObjectItemCaseSensitive(obj, "layout"))
         return read_layout_object(ld, r, obj, path);
+    if (cJSON_IsObject(obj) && cJSON_GetObjectItemCaseSensitive(obj, "bird"))
+        return read_bird_object(ld, r, obj, path);
     plm_scene *scene = ld->scene;
     static const char *const keys[] = {"mesh", "material", "feather", "layout", "transform", "tint", "instances",
                                        "tint_jitter", "seed", "part", NULL};
