@@ -15,6 +15,7 @@ typedef struct plm_mesh {
     float *normals;    /* 3 per vertex, or NULL */
     float *uvs;        /* 2 per vertex, or NULL; for vanes v runs from base (0) to tip (1) */
     float *tangents;   /* 3 per vertex: unit dP/du, or NULL (then derived from the uvs) */
+    float *density;    /* 1 per vertex, or NULL: a relative feather density for pelts (PLY property "density") */
     uint32_t *indices; /* 3 per triangle, counter-clockwise seen from the normal side */
 } plm_mesh;
 

@@ -138,6 +138,7 @@ extern "C" void plm_mesh_free(plm_mesh *mesh)
     std::free(mesh->normals);
     std::free(mesh->uvs);
     std::free(mesh->tangents);
+    std::free(mesh->density);
     std::free(mesh->indices);
     std::memset(mesh, 0, sizeof *mesh);
 }

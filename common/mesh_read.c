@@ -9,7 +9,8 @@
  *
  * PLY: ascii, binary_little_endian and binary_big_endian; vertex properties
  * x y z, nx ny nz, u v (or s t, texture_u texture_v, texture_s texture_t),
- * tx ty tz (plumage's tangents); faces as a "vertex_indices" (or
+ * tx ty tz (plumage's tangents), density (a pelt's relative feather
+ * density); faces as a "vertex_indices" (or
  * "vertex_index") list; polygons become triangle fans; other elements and
  * properties are skipped. OBJ: v, vt, vn and f (with negative indices);
  * other statements are ignored. An OBJ corner is a (v, vt, vn) triple; each
@@ -52,7 +53,7 @@ static int grow_reserve(grow *g, size_t n)
 typedef struct mesh_builder {
     const char *path;
     plm_error *err;
-    grow positions, normals, uvs, tangents; /* floats */
+    grow positions, normals, uvs, tangents, density; /* floats */
     grow indices;                           /* uint32_t */
 } mesh_builder;
 
@@ -87,6 +88,7 @@ static void builder_free(mesh_builder *b)
     free(b->normals.data);
     free(b->uvs.data);
     free(b->tangents.data);
+    free(b->density.data);
     free(b->indices.data);
 }
 
@@ -106,17 +108,17 @@ static plm_result builder_finish(mesh_builder *b, plm_mesh *out)
     if (nv == 0 || b->indices.count == 0)
         return plm_fail(b->err, PLM_ERR_PARSE, "%s: the file holds no triangles", b->path);
     if (!all_finite(&b->positions) || !all_finite(&b->normals) || !all_finite(&b->uvs) ||
-        !all_finite(&b->tangents))
+        !all_finite(&b->tangents) || !all_finite(&b->density))
         return plm_fail(b->err, PLM_ERR_PARSE, "%s: the file has a non-finite vertex attribute", b->path);
     out->vertex_count = (int)nv;
     out->triangle_count = (int)(b->indices.count / 3);
     out->positions = b->positions.data;
     out->indices = b->indices.data;
     b->positions.data = b->indices.data = NULL;
-    grow *optional[3] = {&b->normals, &b->uvs, &b->tangents};
-    float **dest[3] = {&out->normals, &out->uvs, &out->tangents};
-    const size_t width[3] = {3, 2, 3};
-    for (int k = 0; k < 3; ++k)
+    grow *optional[4] = {&b->normals, &b->uvs, &b->tangents, &b->density};
+    float **dest[4] = {&out->normals, &out->uvs, &out->tangents, &out->density};
+    const size_t width[4] = {3, 2, 3, 1};
+    for (int k = 0; k < 4; ++k)
         if (optional[k]->count == width[k] * nv) {
             *dest[k] = optional[k]->data;
             optional[k]->data = NULL;
@@ -373,11 +375,12 @@ static plm_result ply_data_error(ply_file *f, const ply_element *e, long long in
 /* Reads the records of e; vertex and face elements fill the builder. */
 static plm_result ply_read_element(ply_file *f, const ply_element *e)
 {
-    static const char *const attr_names[][4][4] = {
+    static const char *const attr_names[][3][4] = {
         {{"x", NULL}, {"y", NULL}, {"z", NULL}},
         {{"nx", NULL}, {"ny", NULL}, {"nz", NULL}},
         {{"u", "s", "texture_u", "texture_s"}, {"v", "t", "texture_v", "texture_t"}},
         {{"tx", NULL}, {"ty", NULL}, {"tz", NULL}},
+        {{"density", NULL}},
     };
     mesh_builder *b = f->b;
     int is_vertex = strcmp(e->name, "vertex") == 0, is_face = strcmp(e->name, "face") == 0;
@@ -387,10 +390,10 @@ static plm_result ply_read_element(ply_file *f, const ply_element *e)
         return plm_fail(b->err, PLM_ERR_PARSE, "%s: %lld %s records cannot fit in the %zu bytes left", b->path,
                         e->count, e->name, remaining);
     /* Vertex attribute columns: [attribute][component] -> property index or -1. */
-    int column[4][3], present[4] = {0};
-    grow *dest[4] = {&b->positions, &b->normals, &b->uvs, &b->tangents};
-    const int width[4] = {3, 3, 2, 3};
-    for (int a = 0; a < 4; ++a) {
+    int column[5][3], present[5] = {0};
+    grow *dest[5] = {&b->positions, &b->normals, &b->uvs, &b->tangents, &b->density};
+    const int width[5] = {3, 3, 2, 3, 1};
+    for (int a = 0; a < 5; ++a) {
         present[a] = is_vertex;
         for (int k = 0; k < width[a]; ++k)
             present[a] &= (column[a][k] = ply_find(e, attr_names[a][k])) >= 0;
@@ -440,7 +443,7 @@ static plm_result ply_read_element(ply_file *f, const ply_element *e)
                 prev = idx;
             }
         }
-        for (int a = 0; a < 4; ++a) {
+        for (int a = 0; a < 5; ++a) {
             if (!present[a])
                 continue;
             float v[3];
@@ -692,7 +695,7 @@ plm_result plm_mesh_read(const char *path, plm_mesh *out, plm_error *err)
     memset(&b, 0, sizeof b);
     b.path = path;
     b.err = err;
-    b.positions.elem = b.normals.elem = b.uvs.elem = b.tangents.elem = sizeof(float);
+    b.positions.elem = b.normals.elem = b.uvs.elem = b.tangents.elem = b.density.elem = sizeof(float);
     b.indices.elem = sizeof(uint32_t);
     rc = ply ? read_ply(&b, data, size) : read_obj(&b, data, size);
     free(data);

@@ -44,11 +44,13 @@ typedef struct surface {
     double width, height, radius;
     double area;
     double *cdf; /* mesh: cumulative triangle areas */
+    double least_density, most_density; /* mesh: of its density attribute, if it has one */
     size_field size;
 } surface;
 
 typedef struct surface_point {
     vec3 p, n, flow; /* flow: unit, in the tangent plane */
+    double density;  /* the mesh's density attribute there over its least (1 without one) */
     double size;     /* the size field there */
 } surface_point;
 
@@ -86,6 +88,17 @@ static plm_result surface_init(surface *sf, const plm_surface *s, plm_error *err
     }
     if (!(sf->area > 0.0))
         return plm_fail(err, PLM_ERR_INVALID, "layout surface: the mesh has zero area");
+    sf->least_density = INFINITY, sf->most_density = 0.0;
+    for (int i = 0; m->density && i < m->vertex_count; ++i) {
+        if (!(m->density[i] > 0.0f))
+            return plm_fail(err, PLM_ERR_INVALID, "layout surface: the mesh's density at vertex %d is %g; "
+                            "densities must be positive", i, (double)m->density[i]);
+        sf->least_density = fmin(sf->least_density, m->density[i]);
+        sf->most_density = fmax(sf->most_density, m->density[i]);
+    }
+    if (m->density && sf->most_density > 100.0 * sf->least_density)
+        return plm_fail(err, PLM_ERR_INVALID, "layout surface: the mesh's densities range over %g to %g; at most "
+                        "a factor of 100 (feather sizes over a factor of 10)", sf->least_density, sf->most_density);
     return PLM_OK;
 }
 
@@ -101,6 +114,7 @@ static vec3 tangent_flow(vec3 axis, vec3 n)
 static surface_point surface_sample(const surface *sf, vec3 axis, double u0, double u1, double u2)
 {
     surface_point sp;
+    sp.density = 1.0;
     switch (sf->s->kind) {
     case PLM_SURFACE_PLANE:
         sp.p = v3((u0 - 0.5) * sf->width, (u1 - 0.5) * sf->height, 0.0);
@@ -137,6 +151,9 @@ static surface_point surface_sample(const surface *sf, vec3 axis, double u0, dou
             if (v3_length(n) > 1e-9 && v3_dot(n, face) > 0.0)
                 sp.n = v3_normalize(n);
         }
+        if (m->density)
+            sp.density = (b0 * m->density[v[0]] + b1 * m->density[v[1]] + b2 * m->density[v[2]]) /
+                         sf->least_density;
         if (m->tangents)
             axis = v3_add(v3_add(v3_scale(mesh_vertex(m->tangents, v[0]), b0),
                                  v3_scale(mesh_vertex(m->tangents, v[1]), b1)),
@@ -206,13 +223,15 @@ static double edge_distance(const surface *sf, vec3 p)
     return d;
 }
 
-static double size_at(const surface *sf, vec3 p)
+static double size_at(const surface *sf, const surface_point *sp)
 {
     const size_field *f = &sf->size;
+    vec3 p = sp->p;
     double u = f->span > 0.0 ? plm_clamp((v3_dot(p, f->axis) - f->lo) / f->span, 0.0, 1.0) : 1.0;
     double t = f->edge < 1.0 ? fmin(edge_distance(sf, p) / f->edge_width, 1.0) : 1.0;
     /* Linear along the flow; toward an edge, easing out of it. */
-    return (f->head + (1.0 - f->head) * u) * (f->edge + (1.0 - f->edge) * t * (2.0 - t));
+    /* A denser part of a mesh takes smaller feathers, spaced as closely as its density asks. */
+    return (f->head + (1.0 - f->head) * u) * (f->edge + (1.0 - f->edge) * t * (2.0 - t)) / sqrt(sp->density);
 }
 
 /* The field's axis and extent, and the mesh's boundary. */
@@ -223,7 +242,7 @@ static plm_result size_init(surface *sf, vec3 axis, double head, double edge, do
     f->head = head;
     f->edge = edge;
     f->edge_width = edge_width;
-    f->least = head * edge;
+    f->least = head * edge * (sf->most_density > 0.0 ? sqrt(sf->least_density / sf->most_density) : 1.0);
     const vec3 a = f->axis;
     double hi;
     switch (sf->s->kind) {
@@ -264,7 +283,8 @@ static double effective_area(const surface *sf, vec3 axis)
     for (int j = 0; j < SIDE; ++j)
         for (int i = 0; i < SIDE; ++i) {
             double u0 = (i + plm_rng_uniform(&rng)) / SIDE, u1 = (j + plm_rng_uniform(&rng)) / SIDE;
-            double s = size_at(sf, surface_sample(sf, axis, u0, u1, plm_rng_uniform(&rng)).p);
+            surface_point sp = surface_sample(sf, axis, u0, u1, plm_rng_uniform(&rng));
+            double s = size_at(sf, &sp);
             sum += 1.0 / (s * s);
         }
     return sf->area * sum / (SIDE * SIDE);
@@ -365,7 +385,7 @@ static plm_result blue_noise(const surface *sf, vec3 axis, int count, double eff
     while (placed < count) {
         double u0 = plm_rng_uniform(&rng), u1 = plm_rng_uniform(&rng), u2 = plm_rng_uniform(&rng);
         surface_point sp = surface_sample(sf, axis, u0, u1, u2);
-        sp.size = size_at(sf, sp.p);
+        sp.size = size_at(sf, &sp);
         if (plm_rng_uniform(&rng) * sp.size * sp.size > least * least)
             continue; /* kept with probability (least / size)^2 */
         if (too_close(&g, &sp, r)) {

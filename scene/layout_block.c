@@ -159,11 +159,46 @@ static plm_result read_rows(const plm_json_reader *r, const cJSON *obj, const ch
     return rc;
 }
 
-/* "surface": {"shape": "plane", "size": [w, h]}, {"shape": "sphere", "radius": r} or {"mesh": NAME}. */
-static plm_result read_surface(const plm_json_reader *r, const cJSON *obj, const char *path, const plm_scene *scene,
+/* {"shape": "mesh", "file": PLY or OBJ, "flow": "tangents" or "axis"}: the
+ * mesh read and added to the scene under the layout's name. Its vertex
+ * tangents are the flow unless "flow" is "axis" (the pelt's axis projected
+ * onto the surface); the default is the tangents when the file has them. */
+static plm_result read_surface_file(const plm_json_reader *r, const cJSON *surface, const char *spath,
+                                    const char *path, plm_scene *scene, int *mesh_index)
+{
+    static const char *const keys[] = {"shape", "file", "flow", NULL};
+    static const char *const flows[] = {"tangents", "axis", NULL};
+    char file[PLM_PATH_MAX];
+    plm_mesh m = {0};
+    int flow = 0;
+    plm_result rc = plm_json_check_object(r, surface, spath, keys);
+    if (rc == PLM_OK)
+        rc = plm_scene_read_path(r, surface, spath, "file", 1, file);
+    if (rc == PLM_OK && (rc = plm_mesh_read(file, &m, r->err)) != PLM_OK)
+        plm_error_prefix(r->err, "%s: %s.file: ", r->file, spath);
+    if (rc == PLM_OK)
+        rc = plm_json_enum(r, surface, spath, "flow", flows, m.tangents ? 0 : 1, &flow);
+    if (rc == PLM_OK && flow == 0 && !m.tangents)
+        rc = plm_json_fail(r, spath, "flow", "\"tangents\" needs vertex tangents (PLY tx ty tz) in %s", file);
+    if (rc == PLM_OK && flow == 1) {
+        free(m.tangents);
+        m.tangents = NULL;
+    }
+    char name[PLM_NAME_MAX];
+    snprintf(name, sizeof name, "%.100s.surface", path);
+    if (rc == PLM_OK && (*mesh_index = plm_scene_add_mesh(scene, name, &m)) < 0)
+        rc = plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
+    if (rc != PLM_OK)
+        plm_mesh_free(&m);
+    return rc;
+}
+
+/* "surface": {"shape": "plane", "size": [w, h]}, {"shape": "sphere", "radius": r},
+ * {"shape": "mesh", "file": FILE, ...} or {"mesh": NAME} (a mesh of the scene's "meshes"). */
+static plm_result read_surface(const plm_json_reader *r, const cJSON *obj, const char *path, plm_scene *scene,
                                plm_surface *s, int *mesh_index)
 {
-    static const char *const shapes[] = {"plane", "sphere", NULL};
+    static const char *const shapes[] = {"plane", "sphere", "mesh", NULL};
     static const char *const plane_keys[] = {"shape", "size", NULL};
     static const char *const sphere_keys[] = {"shape", "radius", NULL};
     static const char *const mesh_keys[] = {"mesh", NULL};
@@ -172,7 +207,8 @@ static plm_result read_surface(const plm_json_reader *r, const cJSON *obj, const
     const cJSON *surface = cJSON_GetObjectItemCaseSensitive(obj, "surface");
     *mesh_index = -1;
     if (!cJSON_IsObject(surface))
-        return plm_json_fail(r, path, "surface", "required: {\"shape\": \"plane\" or \"sphere\"} or {\"mesh\": NAME}");
+        return plm_json_fail(r, path, "surface", "required: {\"shape\": \"plane\", \"sphere\" or \"mesh\"} or "
+                             "{\"mesh\": NAME}");
     const char *mesh = NULL;
     plm_result rc = plm_json_string(r, surface, spath, "mesh", NULL, &mesh);
     if (rc == PLM_OK && mesh) {
@@ -186,6 +222,10 @@ static plm_result read_surface(const plm_json_reader *r, const cJSON *obj, const
     int shape = 0;
     if (rc == PLM_OK)
         rc = plm_json_enum(r, surface, spath, "shape", shapes, 0, &shape);
+    if (rc == PLM_OK && shape == 2) {
+        s->kind = PLM_SURFACE_MESH;
+        return read_surface_file(r, surface, spath, path, scene, mesh_index);
+    }
     if (rc == PLM_OK)
         rc = plm_json_check_object(r, surface, spath, shape == 0 ? plane_keys : sphere_keys);
     if (rc != PLM_OK)

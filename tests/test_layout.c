@@ -311,6 +311,50 @@ static void mesh_pelt_follows_the_mesh(void **state)
     plm_species_free(&sp);
 }
 
+/* A mesh's per-vertex density: the upper half of a unit sphere 4 times as
+ * dense as the lower takes 4 times the feathers (3 to 5 allowed) at half
+ * the size (mean scale ratio 0.4 to 0.6), away from the equator's blend. */
+static void mesh_density_sets_spacing(void **state)
+{
+    (void)state;
+    plm_species sp = load_preset("covert_parrot");
+    plm_layout_species list[1] = {{&sp, 1.0}};
+    plm_mesh sphere = unit_sphere(64);
+    sphere.density = malloc(sizeof(float) * (size_t)sphere.vertex_count);
+    for (int i = 0; i < sphere.vertex_count; ++i)
+        sphere.density[i] = sphere.positions[3 * i + 2] > 0.0f ? 4.0f : 1.0f;
+    plm_pelt_params p = {0};
+    p.surface.kind = PLM_SURFACE_MESH;
+    p.surface.mesh = &sphere;
+    p.count = 1000;
+    plm_layout l;
+    assert_int_equal(plm_layout_pelt(&p, list, 1, &l, NULL), PLM_OK);
+    int n[2] = {0, 0};
+    double scale[2] = {0.0, 0.0};
+    for (int i = 0; i < l.instance_count; ++i) {
+        double z = l.instances[i].m[2][3];
+        if (fabs(z) < 0.1)
+            continue;
+        n[z > 0.0]++;
+        scale[z > 0.0] += l.instances[i].scale;
+    }
+    double ratio = (double)n[1] / n[0], size = (scale[1] / n[1]) / (scale[0] / n[0]);
+    printf("upper / lower half: %.2f times the feathers, %.2f the size\n", ratio, size);
+    assert_true(ratio >= 3.0 && ratio <= 5.0);
+    assert_true(size >= 0.4 && size <= 0.6);
+    plm_layout_free(&l);
+    /* Densities must be positive and span at most a factor of 100. */
+    plm_error err = {{0}};
+    sphere.density[5] = 0.0f;
+    assert_int_equal(plm_layout_pelt(&p, list, 1, &l, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "density at vertex 5"));
+    sphere.density[5] = 1000.0f;
+    assert_int_equal(plm_layout_pelt(&p, list, 1, &l, &err), PLM_ERR_INVALID);
+    assert_non_null(strstr(err.message, "factor of 100"));
+    plm_mesh_free(&sphere);
+    plm_species_free(&sp);
+}
+
 static void bad_parameters_are_named(void **state)
 {
     (void)state;
@@ -341,6 +385,7 @@ int main(void)
         cmocka_unit_test(pelt_same_seed_same_instances),
         cmocka_unit_test(sphere_pelt_and_ball),
         cmocka_unit_test(mesh_pelt_follows_the_mesh),
+        cmocka_unit_test(mesh_density_sets_spacing),
         cmocka_unit_test(bad_parameters_are_named),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

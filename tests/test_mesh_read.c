@@ -60,8 +60,28 @@ static void ascii_ply_with_st_and_a_quad(void **state)
     assert_double_near(m.positions[3], 2.0, 0.0);
     assert_null(m.normals);
     assert_null(m.tangents);
+    assert_null(m.density);
     plm_mesh_free(&m);
     remove("mr_quad.ply");
+}
+
+/* A per-vertex "density" property (a pelt's feather density) is read with the positions. */
+static void ply_density_property(void **state)
+{
+    (void)state;
+    write_text("mr_density.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"
+                                 "property float x\nproperty float y\nproperty float z\nproperty float density\n"
+                                 "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                 "0 0 0 1\n1 0 0 2.5\n0 1 0 4\n3 0 1 2\n");
+    plm_mesh m;
+    plm_error err = {{0}};
+    assert_int_equal(plm_mesh_read("mr_density.ply", &m, &err), PLM_OK);
+    assert_non_null(m.density);
+    assert_double_near(m.density[0], 1.0, 0.0);
+    assert_double_near(m.density[1], 2.5, 0.0);
+    assert_double_near(m.density[2], 4.0, 0.0);
+    plm_mesh_free(&m);
+    remove("mr_density.ply");
 }
 
 static void put_be(unsigned char **p, const void *value, int size)
@@ -179,6 +199,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ascii_ply_with_st_and_a_quad),
+        cmocka_unit_test(ply_density_property),
         cmocka_unit_test(big_endian_binary_ply),
         cmocka_unit_test(obj_corners_and_seams),
         cmocka_unit_test(malformed_files_are_refused),

@@ -162,12 +162,55 @@ static void no_feather_passes_through_another(void **state)
     plm_scene_free(&s);
 }
 
+/* "shape": "mesh": the example body read from its PLY with its tangents as the flow; a mesh file
+ * without tangents cannot ask for them. */
+static void pelt_on_a_mesh_file(void **state)
+{
+    (void)state;
+    char text[2048];
+    const char *fmt = "{\"materials\": {\"skin\": {\"reflectance\": [0.25, 0.2, 0.17]}},"
+                      " \"objects\": [{\"layout\": {\"type\": \"pelt\","
+                      " \"species\": [\"%s/presets/species/covert_parrot.json\"],"
+                      " \"surface\": {\"shape\": \"mesh\", \"file\": \"%s\"%s}, \"surface_material\": \"skin\","
+                      " \"count\": 100, \"level\": 1, \"texture_size\": 32}}]}";
+    snprintf(text, sizeof text, fmt, PLUMAGE_SOURCE_DIR, PLUMAGE_SOURCE_DIR "/presets/meshes/body.ply", "");
+    plm_scene s;
+    plm_error err = {{0}};
+    assert_int_equal(plm_scene_load_buffer(text, strlen(text), "mesh", &s, &err), PLM_OK);
+    assert_int_equal(s.feather_count, 100);
+    int body = 0;
+    for (int i = 0; i < s.instance_count; ++i)
+        if (s.instances[i].part == PLM_PART_BODY) {
+            const plm_mesh *m = &s.meshes[s.instances[i].mesh].mesh;
+            assert_non_null(m->tangents);
+            assert_non_null(m->density);
+            body++;
+        }
+    assert_int_equal(body, 1);
+    /* Every calamus base on the body: within its 0.2 length and 0.09 width. */
+    for (int f = 1; f <= 100; ++f) {
+        vec3 base = plm_xform_point(part_of(&s, f, PLM_PART_RACHIS)->xform.m, v3(0, 0, 0));
+        assert_true(fabs(base.y) <= 0.1 + 1e-3 && fabs(base.x) <= 0.045 + 1e-3);
+    }
+    plm_scene_free(&s);
+    FILE *obj = fopen("flat.obj", "w");
+    assert_non_null(obj);
+    fputs("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", obj);
+    fclose(obj);
+    snprintf(text, sizeof text, fmt, PLUMAGE_SOURCE_DIR, "flat.obj", ", \"flow\": \"tangents\"");
+    assert_int_not_equal(plm_scene_load_buffer(text, strlen(text), "mesh", &s, &err), PLM_OK);
+    printf("%s\n", err.message);
+    assert_non_null(strstr(err.message, "surface.flow"));
+    remove("flat.obj");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(only_the_tips_show),
         cmocka_unit_test(feathers_lie_on_the_body),
         cmocka_unit_test(no_feather_passes_through_another),
+        cmocka_unit_test(pelt_on_a_mesh_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
