@@ -26,6 +26,18 @@ pkg_check_modules(CJSON REQUIRED IMPORTED_TARGET libcjson)
 pkg_check_modules(CMOCKA REQUIRED IMPORTED_TARGET cmocka)
 find_package(Threads REQUIRED)
 
+# An adapter built as a module (common/module.h): a shared object opened on
+# first use, exporting nothing but its table, installed into <libdir>/plumage.
+include(GNUInstallDirs)
+function(plumage_module name)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "SOURCES;LIBS")
+  add_library(${name} MODULE ${arg_SOURCES})
+  set_target_properties(${name} PROPERTIES PREFIX "" C_VISIBILITY_PRESET hidden CXX_VISIBILITY_PRESET hidden)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} PRIVATE ${arg_LIBS})
+  install(TARGETS ${name} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/plumage)
+endfunction()
+
 # Every plumage library is a static library built from the .c/.cpp files of
 # its folder (but those named after EXCLUDE), included as "folder/header.h"
 # from the repository root.

@@ -1,5 +1,6 @@
-// Assimp adapter behind export/asset.h: a plm_asset to glTF 2.0 (.glb or
-// .gltf) and a glTF file back to a summary.
+// Assimp adapter behind export/asset.h, built as the module asset_module.c
+// opens on first use: a plm_asset to glTF 2.0 (.glb or .gltf) and a glTF
+// file back to a summary.
 //
 // Writing: the asset becomes an aiScene (a mesh per plm_asset_mesh, a node
 // per plm_asset_node referring to meshes by index, so many nodes share one
@@ -35,7 +36,7 @@
 
 extern "C" {
 #include "common/fileio.h"
-#include "export/asset.h"
+#include "export/asset_module.h"
 }
 #include "common/adapter_guard.hpp"
 
@@ -406,26 +407,28 @@ plm_result asset_read(const char *path, plm_asset_summary *out, plm_error *err)
 
 } // namespace
 
-extern "C" plm_result plm_asset_write_gltf(const char *path, const plm_asset *asset, plm_error *err)
+// The module's entry points let no exception out (common/adapter_guard.hpp).
+static plm_result assimp_write(const char *path, const plm_asset *asset, plm_error *err)
 {
     return plm_guard(err, path, [&] { return asset_write(path, asset, err); });
 }
 
-extern "C" plm_result plm_asset_read_gltf(const char *path, plm_asset_summary *out, plm_error *err)
+static void free_summary(plm_asset_summary *s)
 {
-    std::memset(out, 0, sizeof *out);
-    plm_result rc = plm_guard(err, path, [&] { return asset_read(path, out, err); });
-    if (rc != PLM_OK)
-        plm_asset_summary_free(out);
-    return rc;
-}
-
-extern "C" void plm_asset_summary_free(plm_asset_summary *s)
-{
-    if (!s)
-        return;
     std::free(s->nodes);
     std::free(s->meshes);
     std::free(s->materials);
     std::memset(s, 0, sizeof *s);
 }
+
+static plm_result assimp_read(const char *path, plm_asset_summary *out, plm_error *err)
+{
+    std::memset(out, 0, sizeof *out);
+    plm_result rc = plm_guard(err, path, [&] { return asset_read(path, out, err); });
+    if (rc != PLM_OK)
+        free_summary(out);
+    return rc;
+}
+
+extern "C" __attribute__((visibility("default"))) const plm_asset_module plm_asset_module_table = {
+    sizeof(plm_asset_module), assimp_write, assimp_read};

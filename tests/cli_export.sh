@@ -31,5 +31,8 @@ expect_stderr "a missing scene names its file" "nowhere.json" "$PLUMAGE" export 
 echo '{"objects": [{"mesh": "card", "material": "grey"}]}' > bad.json
 expect_stderr "a bad scene fails before writing" "bad.json" "$PLUMAGE" export bad.json -o bad.glb
 [ -e bad.glb ] && fail "no file from a bad scene" || pass "no file from a bad scene"
+PLUMAGE_GLTF_MODULE=$PWD/nowhere.so expect_stderr "a missing glTF module names its path" \
+    "cards2.glb: glTF library module not found: looked for .*nowhere.so" "$PLUMAGE" export quad.json -o cards2.glb
+[ -e cards2.glb ] && fail "no file without the module" || pass "no file without the module"
 ls .*.tmp* >/dev/null 2>&1 && fail "no temporary files left" || pass "no temporary files left"
 finish

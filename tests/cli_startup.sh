@@ -1,5 +1,5 @@
 # Start-up: commands that touch no image do not load the image library
-# (OpenImageIO is a module opened on first use); commands that do find it, and
+# (OpenImageIO is a module opened on first use), nor the glTF one (Assimp); commands that do find it, and
 # a missing module is a clear error naming the path that was tried.
 # usage: bash cli_startup.sh <plumage> <scratch dir>
 set -u
@@ -13,6 +13,8 @@ if loaded_libraries "$PLUMAGE" --help | grep -q 'file=lib'; then
     libs=$(loaded_libraries "$PLUMAGE" --help)
     echo "$libs" | grep -qi 'OpenImageIO\|plumage_image' && fail "--help loads no image library: $libs" \
         || pass "--help loads no image library"
+    echo "$libs" | grep -qi 'assimp' && fail "--help loads no glTF library (Assimp): $libs" \
+        || pass "--help loads no glTF library (Assimp)"
     libs=$(loaded_libraries "$PLUMAGE" probe masking)
     echo "$libs" | grep -qi 'OpenImageIO\|plumage_image' && fail "probe masking loads no image library: $libs" \
         || pass "probe masking loads no image library"
