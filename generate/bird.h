@@ -127,7 +127,7 @@ typedef struct plm_bird {
     plm_bird_measurements m;
     plm_bird_proportions p;
     plm_bill_family bill_family;
-    plm_bird_surface bill, lower_bill, iris, skin;
+    plm_bird_surface bill, lower_bill, iris, skin, feet;
     double eye_diameter; /* mm, the visible eyeball */
     plm_bird_tract tracts[PLM_BIRD_TRACTS_MAX];
     int tract_count;
@@ -174,6 +174,12 @@ plm_result plm_bird_tail_layout(const plm_bird *bird, const plm_bird_body *body,
  * span +x, leading edge +y, dorsal +z) to the bird's at the given side
  * (0 left, a reflection; 1 right), the folded wing lying along the flank. */
 void plm_bird_wing_frame(const plm_bird_body *body, int side, double lift, double m[3][4]);
+
+/* A perch under the bird's origin, its top there, along the bird's side
+ * axis (y), and the feet gripping it (tarsi and four toes each, two forward
+ * and two back): meshes in the bird's frame. */
+plm_result plm_bird_perch(const plm_bird *bird, double radius_mm, double length_mm, plm_mesh *branch, plm_mesh *feet,
+                          plm_error *err);
 
 /* A closed swept shape: rings of `around` points about a centre line, each
  * ring an ellipse of half-width w (along side) and half-heights up/down

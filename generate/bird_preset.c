@@ -81,6 +81,7 @@ static void bird_default(plm_bird *b)
     b->lower_bill = b->bill;
     b->iris = (plm_bird_surface){{0.5, 0.2, 0.05}, 0.05};
     b->skin = (plm_bird_surface){{0.35, 0.33, 0.32}, 0.6};
+    b->feet = (plm_bird_surface){{0.3, 0.3, 0.3}, 0.5};
 }
 
 /* A [lo, hi] range in file units scaled into the struct, with lo < hi inside [min, max]. */
@@ -308,7 +309,7 @@ static plm_result read_tracts(const plm_json_reader *r, const cJSON *root, plm_b
 static plm_result read_bird(const plm_json_reader *r, const cJSON *root, plm_bird *b)
 {
     static const char *const keys[] = {"name", "description", "source", "measurements", "proportions", "bill",
-                                       "eyes", "skin", "tracts", "wings", "tail", "seed", NULL};
+                                       "eyes", "skin", "feet", "tracts", "wings", "tail", "seed", NULL};
     plm_result rc = plm_json_check_object(r, root, "", keys);
     const char *name = NULL;
     if (rc == PLM_OK)
@@ -343,6 +344,8 @@ static plm_result read_bird(const plm_json_reader *r, const cJSON *root, plm_bir
         rc = read_eyes(r, root, b);
     if (rc == PLM_OK)
         rc = read_surface(r, root, "", "skin", "colour", &b->skin);
+    if (rc == PLM_OK)
+        rc = read_surface(r, root, "", "feet", "colour", &b->feet);
     if (rc == PLM_OK)
         rc = read_tracts(r, root, b);
     if (rc == PLM_OK)

@@ -11,7 +11,10 @@
 #define MM 0.001
 #define TAIL_VARIANTS 3
 
-static vec3 turn(vec3 v, vec3 toward, double angle) { return v3_add(v3_scale(v, cos(angle)), v3_scale(toward, sin(angle))); }
+static vec3 turn(vec3 v, vec3 toward, double angle)
+{
+    return v3_add(v3_scale(v, cos(angle)), v3_scale(toward, sin(angle)));
+}
 
 /* One feather of a fan: rank -1..1 across it, `drop` layout units below the
  * central feathers, pitched `pitch` radians toward the ventral side. */

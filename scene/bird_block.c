@@ -19,6 +19,8 @@
 
 typedef struct bird_options {
     int feathers;     /* lay the tracts' feathers */
+    double perch_radius, perch_length; /* mm; 0: no perch and no feet */
+    rgb bark;
     int level;        /* the body's subdivision */
     int feather_level, texture_size;
 } bird_options;
@@ -32,8 +34,17 @@ static void put3(float *a, uint32_t i, vec3 v)
     a[3 * i] = (float)v.x, a[3 * i + 1] = (float)v.y, a[3 * i + 2] = (float)v.z;
 }
 
-/* The skin triangles of one tract as a mesh of their own, the flow turned by the tract's angle. */
-static plm_result tract_mesh(const plm_bird_body *b, int tract, double flow, plm_mesh *out, double *area)
+/* Which triangles a part of the skin takes: those of one tract (k), the feathered ones or the bare ones. */
+typedef enum skin_part { SKIN_TRACT, SKIN_FEATHERED, SKIN_BARE } skin_part;
+
+static int takes(skin_part part, int k, int tract)
+{
+    return part == SKIN_TRACT ? tract == k : part == SKIN_FEATHERED ? tract >= 0 : tract < 0;
+}
+
+/* The skin's triangles of a part as a mesh of their own, the flow turned by `flow`. */
+static plm_result tract_mesh(const plm_bird_body *b, skin_part part, int tract, double flow, plm_mesh *out,
+                             double *area)
 {
     const plm_mesh *skin = &b->skin;
     memset(out, 0, sizeof *out);
@@ -51,7 +62,7 @@ static plm_result tract_mesh(const plm_bird_body *b, int tract, double flow, plm
     memset(map, 0xff, sizeof(int32_t) * (size_t)skin->vertex_count);
     double c = cos(flow), s = sin(flow);
     for (int t = 0; t < skin->triangle_count; ++t) {
-        if (b->tract[t] != tract)
+        if (!takes(part, tract, b->tract[t]))
             continue;
         const uint32_t *v = skin->indices + 3 * t;
         for (int k = 0; k < 3; ++k) {
@@ -73,6 +84,47 @@ static plm_result tract_mesh(const plm_bird_body *b, int tract, double flow, plm
     return PLM_OK;
 }
 
+/* Whether a feather scaled by s about its root keeps its vane (taken as a
+ * quarter of its length each side of the rachis) off an eye. */
+static int clear_of_eye(vec3 root, vec3 v, double s, vec3 eye, double radius)
+{
+    for (int k = 0; k <= 16; ++k) {
+        vec3 p = v3_madd(root, v, s * k / 16.0);
+        if (v3_length(v3_sub(p, eye)) < 1.1 * radius + 0.25 * s * v3_length(v))
+            return 0;
+    }
+    return 1;
+}
+
+/* Feathers reaching over an eye end before it: each is shrunk about its
+ * root (bisection on its scale) until it clears both eyes. */
+static void clear_eyes(const plm_bird_body *b, plm_layout *l)
+{
+    for (int i = 0; i < l->instance_count; ++i) {
+        plm_layout_instance *in = &l->instances[i];
+        double length = l->prototypes[in->prototype].shape.length;
+        vec3 root = v3(in->m[0][3], in->m[1][3], in->m[2][3]);
+        vec3 v = v3_scale(v3(in->m[0][1], in->m[1][1], in->m[2][1]), length);
+        int clear = clear_of_eye(root, v, 1.0, b->eye[0], b->eye_radius);
+        if (clear && clear_of_eye(root, v, 1.0, b->eye[1], b->eye_radius))
+            continue;
+        double lo = 0.0, hi = 1.0;
+        for (int k = 0; k < 12; ++k) {
+            double mid = 0.5 * (lo + hi);
+            if (clear_of_eye(root, v, mid, b->eye[0], b->eye_radius) &&
+                clear_of_eye(root, v, mid, b->eye[1], b->eye_radius))
+                lo = mid;
+            else
+                hi = mid;
+        }
+        double s = fmax(lo, 0.05); /* a stub where even the root is at the eye */
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                in->m[r][c] *= s;
+        in->scale *= s;
+    }
+}
+
 /* One tract's feathers: a pelt on its part of the skin. */
 static plm_result lay_tract(const plm_json_reader *r, const char *path, const plm_bird *bird, const plm_bird_body *b,
                             int k, const bird_options *o, const plm_xform *xform, plm_scene *scene,
@@ -83,7 +135,7 @@ static plm_result lay_tract(const plm_json_reader *r, const char *path, const pl
     snprintf(tpath, sizeof tpath, "%s (%s: tracts[%d] \"%s\")", path, bird->name, k, t->name);
     plm_mesh m;
     double area;
-    if (tract_mesh(b, k, t->flow, &m, &area) != PLM_OK)
+    if (tract_mesh(b, SKIN_TRACT, k, t->flow, &m, &area) != PLM_OK)
         return no_memory(r);
     if (m.triangle_count == 0) {
         plm_mesh_free(&m);
@@ -111,6 +163,8 @@ static plm_result lay_tract(const plm_json_reader *r, const char *path, const pl
     rc = plm_layout_pelt(&p, &sp, 1, &layout, r->err);
     if (rc != PLM_OK)
         plm_error_prefix(r->err, "%s: %s: ", r->file, tpath);
+    else
+        clear_eyes(b, &layout);
     const char *files[1] = {t->species};
     if (rc == PLM_OK)
         rc = plm_layout_block_place(r, tpath, &layout, files, o->feather_level, o->texture_size, p.seed,
@@ -264,11 +318,45 @@ static plm_result add_eye(const plm_json_reader *r, plm_scene *scene, const char
     return rc;
 }
 
+/* The branch and the feet gripping it. */
+static plm_result add_perch(const plm_json_reader *r, const char *path, const plm_bird *bird, const bird_options *o,
+                            const plm_xform *xform, plm_scene *scene)
+{
+    plm_mesh branch, feet;
+    plm_result rc = plm_bird_perch(bird, o->perch_radius, o->perch_length, &branch, &feet, r->err);
+    if (rc != PLM_OK)
+        return rc;
+    plm_material bark = {0};
+    snprintf(bark.name, sizeof bark.name, "%.100s.perch", path);
+    bark.type = PLM_MATERIAL_DIFFUSE;
+    bark.reflectance = o->bark;
+    int b = plm_scene_add_material(scene, &bark), f = add_material(scene, path, "feet", &bird->feet);
+    rc = add_mesh_instance(r, scene, path, "perch", &branch, b, xform, PLM_PART_OTHER);
+    if (rc == PLM_OK)
+        rc = add_mesh_instance(r, scene, path, "feet", &feet, f, xform, PLM_PART_OTHER);
+    else
+        plm_mesh_free(&feet);
+    return rc;
+}
+
 static plm_result read_options(const plm_json_reader *r, const cJSON *obj, const char *path, bird_options *o)
 {
     static const char *const keys[] = {"bird", "transform", "feathers", "level", "feather_level", "texture_size",
-                                       NULL};
+                                       "perch", NULL};
+    static const char *const perch_keys[] = {"radius", "length", "colour", NULL};
     plm_result rc = plm_json_check_object(r, obj, path, keys);
+    const cJSON *perch = cJSON_GetObjectItemCaseSensitive(obj, "perch");
+    char ppath[300];
+    snprintf(ppath, sizeof ppath, "%s.perch", path);
+    if (rc == PLM_OK && perch) {
+        rc = plm_json_check_object(r, perch, ppath, perch_keys);
+        if (rc == PLM_OK)
+            rc = plm_json_number(r, perch, ppath, "radius", 12.0, 1.0, 1000.0, &o->perch_radius);
+        if (rc == PLM_OK)
+            rc = plm_json_number(r, perch, ppath, "length", 300.0, 10.0, 10000.0, &o->perch_length);
+        if (rc == PLM_OK)
+            rc = plm_json_rgb(r, perch, ppath, "colour", rgb_make(0.22, 0.16, 0.11), 0.0, 1.0, &o->bark);
+    }
     if (rc == PLM_OK)
         rc = plm_json_bool(r, obj, path, "feathers", 1, &o->feathers);
     if (rc == PLM_OK)
@@ -301,14 +389,28 @@ static plm_result build(const plm_json_reader *r, const char *path, const plm_bi
     int dark = add_material(scene, path, "pupil", &pupil);
     if (skin < 0 || upper < 0 || lower < 0 || iris < 0 || dark < 0)
         return no_memory(r);
-    /* The scene owns the meshes from here. */
-    rc = add_mesh_instance(r, scene, path, "skin", &b->skin, skin, xform, PLM_PART_BODY);
+    /* The feathered skin is the ID pass's body; the bare eye rings belong to the eyes. */
+    plm_mesh feathered, bare;
+    double area;
+    if (tract_mesh(b, SKIN_FEATHERED, 0, 0.0, &feathered, &area) != PLM_OK)
+        return no_memory(r);
+    if (tract_mesh(b, SKIN_BARE, 0, 0.0, &bare, &area) != PLM_OK) {
+        plm_mesh_free(&feathered);
+        return no_memory(r);
+    }
+    rc = add_mesh_instance(r, scene, path, "skin", &feathered, skin, xform, PLM_PART_BODY);
+    if (rc == PLM_OK && bare.triangle_count > 0)
+        rc = add_mesh_instance(r, scene, path, "eye_rings", &bare, skin, xform, PLM_PART_OTHER);
+    else
+        plm_mesh_free(&bare);
     if (rc == PLM_OK)
         rc = add_mesh_instance(r, scene, path, "bill.upper", &b->upper_bill, upper, xform, PLM_PART_OTHER);
     if (rc == PLM_OK)
         rc = add_mesh_instance(r, scene, path, "bill.lower", &b->lower_bill, lower, xform, PLM_PART_OTHER);
     for (int side = 0; rc == PLM_OK && side < 2; ++side)
         rc = add_eye(r, scene, path, b, side, iris, dark, xform);
+    if (rc == PLM_OK && o->perch_radius > 0.0)
+        rc = add_perch(r, path, bird, o, xform, scene);
     return rc;
 }
 
