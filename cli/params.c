@@ -80,6 +80,7 @@ int cmd_params(int argc, char **argv)
         {"species", &plm_vane_param_block, 1, {""}, {shape}},
         {"species", &plm_vane_tip_param_block, 1, {""}, {shape}},
         {"species", &plm_barbs_param_block, 1, {""}, {shape}},
+        {"species", &plm_fluff_param_block, 1, {""}, {shape}},
         {"species", &plm_emargination_param_block[0], 1, {""}, {&shape->emargination[0]}},
         {"species", &plm_splits_param_block, 1, {""}, {shape}},
         {"species", &plm_split_param_block, 1, {""}, {&split}},

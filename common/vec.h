@@ -189,6 +189,12 @@ static inline double v3_length(vec3 a) { return sqrt(v3_dot(a, a)); }
 static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0 / v3_length(a)); }
 /* a + s * b */
 static inline vec3 v3_madd(vec3 a, vec3 b, double s) { return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z); }
+/* v turned by angle (radians, right-handed) about the unit axis k (Rodrigues). */
+static inline vec3 v3_rotate(vec3 v, vec3 k, double angle)
+{
+    double c = cos(angle), s = sin(angle);
+    return v3_add(v3_add(v3_scale(v, c), v3_scale(v3_cross(k, v), s)), v3_scale(k, v3_dot(k, v) * (1.0 - c)));
+}
 
 /* An orthonormal frame; to_local gives (w·x, w·y, w·z). */
 typedef struct frame { vec3 x, y, z; } frame;

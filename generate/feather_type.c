@@ -58,6 +58,38 @@ static const type_row rows[PLM_TYPE_COUNT] = {
                          {{0}, {0}}, PLM_TIP_POINTED, 0.45, {40, 40}, {30, 30}, 5, 28, 3.5, 6, 2.5},
 };
 
+/* The fluffy base: body feathers (contour, hackle) have long, curly down
+ * barbs and an afterfeather; coverts shorter down and none; flight feathers
+ * a short, sparse downy base. Barb thickness is not scaled with the length:
+ * down barbs are about 20-40 um thick on small and large birds alike. */
+typedef struct fluff_row {
+    double density, length, curl, thickness, barbules; /* per cm, vane widths, degrees, mm, per mm */
+    int afterfeather;
+    double afterfeather_size;
+} fluff_row;
+
+static const fluff_row fluff_rows[PLM_TYPE_COUNT] = {
+    [PLM_TYPE_CONTOUR] = {30, 1.1, 150, 0.025, 3, 1, 0.22},
+    [PLM_TYPE_COVERT] = {30, 0.9, 110, 0.025, 3, 0, 0.15},
+    [PLM_TYPE_PRIMARY] = {20, 0.5, 60, 0.04, 2, 0, 0.1},
+    [PLM_TYPE_SECONDARY] = {20, 0.5, 60, 0.04, 2, 0, 0.1},
+    [PLM_TYPE_TERTIAL] = {22, 0.6, 80, 0.035, 2, 0, 0.1},
+    [PLM_TYPE_RECTRIX] = {20, 0.5, 60, 0.04, 2, 0, 0.1},
+    [PLM_TYPE_HACKLE] = {28, 1.2, 150, 0.025, 3, 1, 0.18},
+};
+
+static void fluff_default(plm_shape *sh, plm_feather_type type)
+{
+    const fluff_row *f = &fluff_rows[type];
+    sh->fluff_density = f->density;
+    sh->fluff_length = f->length;
+    sh->fluff_curl = plm_radians(f->curl);
+    sh->fluff_thickness = f->thickness;
+    sh->fluff_barbules = f->barbules;
+    sh->afterfeather = f->afterfeather;
+    sh->afterfeather_size = f->afterfeather_size;
+}
+
 void plm_species_default_of_type(plm_species *s, plm_feather_type type)
 {
     const type_row *r = &rows[type];
@@ -101,6 +133,7 @@ void plm_species_default_of_type(plm_species *s, plm_feather_type type)
     sh->split_depths[1] = 0.6;
     sh->split_gap = 0.6;
     sh->seed = 1;
+    fluff_default(sh, type);
     s->pigment.band_width = 0.5;
     s->pigment.tip_length = 0.15;
     s->pigment.barb_jitter = 0.3;

@@ -10,12 +10,6 @@
  * smallest eigenvalue of the cubic B-spline limit operator is 1/3). */
 #define FIT_ITERATIONS 40
 
-static vec3 rotate(vec3 v, vec3 k, double angle)
-{
-    double c = cos(angle), s = sin(angle);
-    return v3_add(v3_add(v3_scale(v, c), v3_scale(v3_cross(k, v), s)), v3_scale(k, v3_dot(k, v) * (1.0 - c)));
-}
-
 plm_rachis_frame plm_rachis_frame_at(const plm_outline *o, double y)
 {
     const plm_shape *sh = &o->shape;
@@ -35,9 +29,9 @@ plm_rachis_frame plm_rachis_frame_at(const plm_outline *o, double y)
     }
     vec3 k = v3_scale(omega, 1.0 / w);
     double a = w * y;
-    f.x = rotate(v3(1, 0, 0), k, a);
-    f.t = rotate(ey, k, a);
-    f.z = rotate(v3(0, 0, 1), k, a);
+    f.x = v3_rotate(v3(1, 0, 0), k, a);
+    f.t = v3_rotate(ey, k, a);
+    f.z = v3_rotate(v3(0, 0, 1), k, a);
     /* C(y) = integral of the rotated tangent, in closed form. */
     double ky = v3_dot(k, ey);
     f.c = v3_add(v3_add(v3_scale(ey, sin(a) / w), v3_scale(v3_cross(k, ey), (1.0 - cos(a)) / w)),

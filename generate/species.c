@@ -75,6 +75,22 @@ const plm_param_block plm_barbs_param_block = {"shape.barbs", "barb angles, curv
 const plm_param_block plm_barb_side_param_block = {"shape.barbs.left", "one vane's own barb angles (also .right)",
                                                    barbs_params, 2};
 
+static const plm_param fluff_params[] = {
+    SHAPE_FIELD("density", fluff_density, 0.0, 200.0, "per cm",
+                "down barbs per cm along the rachis in the downy base and on the afterfeather, per side; 0 none"),
+    SHAPE_FIELD("length", fluff_length, 0.1, 4.0, "vane widths",
+                "a down barb's length over the vane's width where it leaves the rachis"),
+    SHAPE_ANGLE("curl", fluff_curl, 0.0, 720.0, "RMS turn of a down barb's direction from root to end (random walk)"),
+    SHAPE_FIELD("thickness", fluff_thickness, 0.002, 0.5, "mm", "a down barb's diameter at its root; thins to a "
+                "quarter at its end"),
+    SHAPE_FIELD("barbules", fluff_barbules, 0.0, 40.0, "per mm", "barbules along a down barb; 0 bare barbs"),
+    {"afterfeather", PLM_PARAM_BOOL, offsetof(plm_shape, afterfeather), 0.0, 1.0, "",
+     "a downy afterfeather on the rachis's underside where the vanes begin", 0},
+    SHAPE_FIELD("afterfeather_size", afterfeather_size, 0.02, 0.9, "fraction of length", "the afterfeather's length"),
+};
+const plm_param_block plm_fluff_param_block = {"shape.fluff", "the fluffy base and the afterfeather as fibers",
+                                               fluff_params, PLM_PARAM_COUNT(fluff_params)};
+
 static const plm_param splits_params[] = {
     {"frequency", PLM_PARAM_NUMBER, offsetof(plm_shape, split_frequency), 0.0, 16.0, "per vane",
      "mean splits per vane, drawn for each feather from shape.seed; 0 with a list", 0},
@@ -289,9 +305,11 @@ static plm_result parse_splits(const species_reader *r, const cJSON *obj, plm_sh
 
 static plm_result parse_shape(const species_reader *r, const cJSON *obj, plm_shape *sh)
 {
-    static const char *const extra[] = {"rachis", "vane", "barbs", "splits", NULL};
+    static const char *const extra[] = {"rachis", "vane", "barbs", "splits", "fluff", NULL};
     TRY(read_block(r, obj, "shape", &plm_shape_param_block, extra, sh));
     const cJSON *sub;
+    if ((sub = cJSON_GetObjectItemCaseSensitive(obj, "fluff")))
+        TRY(read_block(r, sub, "shape.fluff", &plm_fluff_param_block, NULL, sh));
     if ((sub = cJSON_GetObjectItemCaseSensitive(obj, "rachis")))
         TRY(read_block(r, sub, "shape.rachis", &plm_rachis_param_block, NULL, sh));
     if ((sub = cJSON_GetObjectItemCaseSensitive(obj, "vane")))
@@ -401,6 +419,7 @@ static plm_result check_ranges(const species_reader *r, const plm_species *s)
                   {&plm_vane_tip_param_block, sh},
                   {&plm_barbs_param_block, sh},
                   {&plm_barb_side_param_block, (const char *)sh + sizeof(double)},
+                  {&plm_fluff_param_block, sh},
                   {&plm_splits_param_block, sh},
                   {&plm_emargination_param_block[0], &sh->emargination[0]},
                   {&plm_emargination_param_block[1], &sh->emargination[1]},

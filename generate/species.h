@@ -90,6 +90,14 @@ typedef struct plm_shape {
     double barb_fray;                       /* barb spacings below the tip over which barbs part */
     /* fluffy base: barbs leaving the rachis in the first `plumulaceous` fraction of the vane */
     double plumulaceous;
+    /* its down barbs and the afterfeather's, as curves (generate/fluff.h) */
+    double fluff_density;     /* down barbs per cm along the rachis, per side; 0: none */
+    double fluff_length;      /* a down barb's length over the vane's width where it leaves the rachis */
+    double fluff_curl;        /* radians: RMS turn of a down barb's direction between its root and its end */
+    double fluff_thickness;   /* mm: a down barb's diameter at its root */
+    double fluff_barbules;    /* barbules per mm along a down barb (both sides together) */
+    int afterfeather;         /* 1: an afterfeather leaves the rachis's underside where the vanes begin */
+    double afterfeather_size; /* its length, fraction of the feather's length */
     /* splits: gaps between barbs, reaching in from the vane edge; listed
      * ones here, drawn ones added per feather by plm_outline_init */
     int split_count;
@@ -125,6 +133,7 @@ extern const plm_param_block plm_rachis_param_block;    /* plm_shape */
 extern const plm_param_block plm_vane_param_block;      /* plm_shape */
 extern const plm_param_block plm_vane_tip_param_block;  /* plm_shape */
 extern const plm_param_block plm_barbs_param_block;     /* plm_shape */
+extern const plm_param_block plm_fluff_param_block;     /* plm_shape */
 extern const plm_param_block plm_barb_side_param_block; /* plm_shape, offset by one double for the right side */
 extern const plm_param_block plm_splits_param_block;    /* plm_shape */
 extern const plm_param_block plm_emargination_param_block[2]; /* plm_emargination, left and right */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "common/fileio.h"
+#include "generate/fluff.h"
 #include "generate/geometry.h"
 #include "texture/texture.h"
 
@@ -26,6 +27,8 @@ plm_result plm_feather_generate(const plm_species *species, const plm_feather_op
     /* The tube is thin: one level less gives it as many segments per mm as the vane. */
     if (rc == PLM_OK && !opt.no_meshes)
         rc = plm_rachis_mesh(&out->outline, level > 1 ? level - 1 : 1, &out->rachis, err);
+    if (rc == PLM_OK && !opt.no_meshes)
+        rc = plm_fluff_curves(&out->outline, &out->fluff, err);
     if (rc == PLM_OK && !opt.no_textures)
         rc = plm_texture_author(&out->outline, &species->pigment, tw, th, &out->texture, &out->barb,
                                 opt.no_pigment ? NULL : &out->pigment, err);
@@ -38,6 +41,7 @@ void plm_feather_free(plm_feather *f)
 {
     plm_mesh_free(&f->vane);
     plm_mesh_free(&f->rachis);
+    plm_curves_free(&f->fluff);
     plm_texture_image_free(&f->texture);
     plm_texture_image_free(&f->barb);
     plm_texture_image_free(&f->pigment);

@@ -4,7 +4,7 @@
  *   plm_species sp;  plm_feather f;  plm_error err;
  *   plm_species_load("presets/species/remex.json", &sp, &err);
  *   plm_feather_options opt = {0};               // zero = defaults
- *   plm_feather_generate(&sp, &opt, &f, &err);   // f.vane, f.rachis, f.texture, f.pigment
+ *   plm_feather_generate(&sp, &opt, &f, &err);   // f.vane, f.rachis, f.fluff, f.texture, f.pigment
  *   ...
  *   plm_feather_free(&f);  plm_species_free(&sp);
  *
@@ -16,6 +16,7 @@
 #define PLUMAGE_TEXTURE_FEATHER_H
 
 #include "common/image_io.h"
+#include "common/curves.h"
 #include "common/mesh.h"
 #include "generate/outline.h"
 #include "generate/species.h"
@@ -33,6 +34,7 @@ typedef struct plm_feather_options {
 typedef struct plm_feather {
     plm_outline outline;
     plm_mesh vane, rachis;
+    plm_curves fluff;  /* the fluffy base and afterfeather as fibers (generate/fluff.h); with the meshes */
     plm_image texture; /* the 3-channel feather texture (texture/texture.h) */
     plm_image barb;    /* its barb coordinate (1 channel); files carry it as a 4th channel */
     plm_image pigment; /* 3 pigment channels, or empty */
