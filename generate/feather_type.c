@@ -69,13 +69,13 @@ typedef struct fluff_row {
 } fluff_row;
 
 static const fluff_row fluff_rows[PLM_TYPE_COUNT] = {
-    [PLM_TYPE_CONTOUR] = {30, 1.1, 150, 0.025, 3, 1, 0.22},
-    [PLM_TYPE_COVERT] = {30, 0.9, 110, 0.025, 3, 0, 0.15},
-    [PLM_TYPE_PRIMARY] = {20, 0.5, 60, 0.04, 2, 0, 0.1},
-    [PLM_TYPE_SECONDARY] = {20, 0.5, 60, 0.04, 2, 0, 0.1},
-    [PLM_TYPE_TERTIAL] = {22, 0.6, 80, 0.035, 2, 0, 0.1},
-    [PLM_TYPE_RECTRIX] = {20, 0.5, 60, 0.04, 2, 0, 0.1},
-    [PLM_TYPE_HACKLE] = {28, 1.2, 150, 0.025, 3, 1, 0.18},
+    [PLM_TYPE_CONTOUR] = {30, 1.1, 150, 0.025, 20, 1, 0.22},
+    [PLM_TYPE_COVERT] = {30, 0.9, 110, 0.025, 20, 0, 0.15},
+    [PLM_TYPE_PRIMARY] = {20, 0.5, 60, 0.04, 4, 0, 0.1},
+    [PLM_TYPE_SECONDARY] = {20, 0.5, 60, 0.04, 4, 0, 0.1},
+    [PLM_TYPE_TERTIAL] = {22, 0.6, 80, 0.035, 5, 0, 0.1},
+    [PLM_TYPE_RECTRIX] = {20, 0.5, 60, 0.04, 4, 0, 0.1},
+    [PLM_TYPE_HACKLE] = {28, 1.2, 150, 0.025, 16, 1, 0.18},
 };
 
 static void fluff_default(plm_shape *sh, plm_feather_type type)

@@ -12,7 +12,7 @@
 #define TIP_RADIUS 0.25          /* a barb's radius at its end, of its root's */
 #define ELEVATION_SD 0.45        /* radians: how far a down barb leaves the vane plane (SD) */
 #define BARBULE_ANGLE 0.6        /* radians between a barbule and its barb */
-#define BARBULE_LENGTH 0.15      /* of its barb's length at the barb's root, half that at its end */
+#define BARBULE_LENGTH 0.25      /* of its barb's length at the barb's root, half that at its end */
 #define BARBULE_RADIUS 0.4       /* of its barb's radius where it leaves */
 #define HYPORACHIS_ANGLE 0.26    /* radians between the afterfeather's shaft and the rachis, ventral */
 #define HYPORACHIS_RADIUS 0.35   /* its root radius, of the rachis's there */

@@ -252,21 +252,6 @@ static int past_barb(const plm_outline *o, const plm_outline_row *row, int side,
     return fabs(c - j - 0.5) > half;
 }
 
-/* The fluffy base: downy barbs do not hook together, so instead of a closed
- * vane they show as loose strands, thinner and shorter toward the base. A
- * barb leaving the rachis at psi is drawn over part of its spacing (30% at
- * the vane's base to 80% where the pennaceous vane begins) and out to part of
- * the vane's width (50% to 100%); docs/species.md. */
-static int is_down_strand(const plm_outline *o, double psi, double xi)
-{
-    double down = o->shape.plumulaceous * o->vane_length, from_base = psi - o->vane_base;
-    if (from_base < 0.0 || down <= 0.0)
-        return 0;
-    double s = from_base / down, spacing = 10.0 / o->shape.barb_density; /* density is per cm */
-    double phase = from_base / spacing - floor(from_base / spacing);
-    return xi < 0.5 + 0.5 * s && phase < 0.3 + 0.5 * s;
-}
-
 plm_flat_sample plm_outline_sample_row(const plm_outline *o, const plm_outline_row *row, double x)
 {
     int side = x >= 0.0;
@@ -291,8 +276,8 @@ plm_flat_sample plm_outline_sample_row(const plm_outline *o, const plm_outline_r
                            past_barb(o, row, side, a, s.barb_origin)
                        ? PLM_FLAT_BACKGROUND
                        : PLM_FLAT_VANE;
-    else
-        s.region = is_down_strand(o, s.barb_origin, a / w) ? PLM_FLAT_VANE : PLM_FLAT_BACKGROUND;
+    else /* the downy base: its barbs are fibers (generate/fluff.h), not vane */
+        s.region = PLM_FLAT_BACKGROUND;
     return s;
 }
 

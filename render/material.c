@@ -62,6 +62,73 @@ static int feather_sample(const plm_bsdf *b, double u0, double u1, double u2, pl
 
 static const plm_bsdf_ops feather_ops = {feather_eval, feather_pdf, feather_eval_mis, feather_sample};
 
+/* A fiber (curves): the fiber BCSDF in the frame of the curve's axis,
+ * integrated over the whole fiber width (h in [-1, 1]): the far field of a
+ * fiber thinner than a pixel. eval is S cos(theta_i), theta_i from the
+ * plane across the axis, as for a feather's barbs (optics/feather_bsdf.h). */
+typedef struct fiber_state {
+    frame axis; /* z = the curve's unit tangent */
+    plm_fiber_bcsdf bcsdf;
+    rgb tint;
+} fiber_state;
+_Static_assert(sizeof(fiber_state) <= PLM_BSDF_STATE_BYTES, "plm_bsdf.state must hold a fiber BSDF");
+
+static const fiber_state *fiber_of(const plm_bsdf *b) { return (const fiber_state *)b->state; }
+static double across_axis(vec3 local) { return sqrt(local.x * local.x + local.y * local.y); }
+
+static rgb fiber_eval_pdf(const plm_bsdf *b, vec3 wi, double *pdf)
+{
+    const fiber_state *f = fiber_of(b);
+    vec3 local = frame_to_local(&f->axis, wi);
+    rgb s = plm_fiber_bcsdf_eval_pdf(&f->bcsdf, local, pdf);
+    return rgb_mul(rgb_scale(s, across_axis(local)), f->tint);
+}
+
+static rgb fiber_eval(const plm_bsdf *b, vec3 wi)
+{
+    double pdf;
+    return fiber_eval_pdf(b, wi, &pdf);
+}
+
+static double fiber_pdf(const plm_bsdf *b, vec3 wi)
+{
+    return plm_fiber_bcsdf_pdf(&fiber_of(b)->bcsdf, frame_to_local(&fiber_of(b)->axis, wi));
+}
+
+static rgb fiber_eval_mis(const plm_bsdf *b, vec3 wi, double light_pdf)
+{
+    double pdf;
+    rgb f = fiber_eval_pdf(b, wi, &pdf);
+    return rgb_scale(f, plm_power_heuristic(light_pdf, pdf));
+}
+
+static int fiber_sample(const plm_bsdf *b, double u0, double u1, double u2, plm_bsdf_sample_rec *s)
+{
+    const fiber_state *f = fiber_of(b);
+    vec3 local;
+    if (!plm_fiber_bcsdf_sample_direction(&f->bcsdf, u0, u1, u2, &local))
+        return 0;
+    s->wi = frame_to_world(&f->axis, local);
+    rgb e = fiber_eval_pdf(b, s->wi, &s->pdf);
+    if (!(s->pdf > 0.0))
+        return 0;
+    s->weight = rgb_scale(e, 1.0 / s->pdf);
+    return 1;
+}
+
+static const plm_bsdf_ops fiber_ops = {fiber_eval, fiber_pdf, fiber_eval_mis, fiber_sample};
+
+static void fiber_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
+{
+    const plm_fiber_material *m = hit->material->fiber;
+    fiber_state *f = (fiber_state *)out->state;
+    f->axis = frame_from_z(hit->dpdu);
+    f->tint = hit->tint;
+    plm_fiber_bcsdf_prepare(&m->fiber, m->stochastic ? NULL : m->table, frame_to_local(&f->axis, wo), -1.0, 1.0, rng,
+                            &f->bcsdf);
+    out->ops = &fiber_ops;
+}
+
 /* (1 - w) white + w c */
 static rgb mix_from_white(rgb c, double w) { return rgb_add(rgb_gray(1.0), rgb_scale(rgb_sub(c, rgb_gray(1.0)), w)); }
 
@@ -144,6 +211,8 @@ void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
     }
     /* Diffuse materials, and a feather's rachis: the material's reflectance. */
     plm_diffuse_bsdf(hit, wo, rgb_mul(m->reflectance, hit->tint), out);
+    if (m->type == PLM_MATERIAL_FIBER)
+        fiber_bsdf(hit, wo, rng, out);
     if (hit->on_vane) {
         int known = hit->has_masking && hit->masking_w.x == wo.x && hit->masking_w.y == wo.y &&
                     hit->masking_w.z == wo.z;

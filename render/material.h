@@ -35,6 +35,11 @@ typedef struct plm_hit {
      * film.far_field) and the ray direction. */
     double cone_width;
     vec3 ray_dir;
+    /* On a fiber (curves): its radius there (0 elsewhere) and the closest
+     * point of its axis, from which rays leave it (plm_world_offset); dpdu
+     * is then the unit axis. */
+    double fiber_radius;
+    vec3 fiber_axis_point;
     /* Set by plm_material_surface: whether the hit lies on a feather's vane,
      * and there the barb frame (x = b, y = n, z = t; docs/masking.md). */
     int on_vane;

@@ -88,9 +88,15 @@ void plm_scene_free(plm_scene *scene)
 {
     for (int i = 0; i < scene->light_count; ++i)
         free(scene->lights[i].image.pixels);
-    for (int i = 0; i < scene->mesh_count; ++i)
+    for (int i = 0; i < scene->mesh_count; ++i) {
         plm_mesh_free(&scene->meshes[i].mesh);
+        plm_curves_free(&scene->meshes[i].curves);
+    }
     for (int i = 0; i < scene->material_count; ++i) {
+        if (scene->materials[i].fiber && !scene->materials[i].shares_fiber) {
+            plm_fiber_table_free(scene->materials[i].fiber->table);
+            free(scene->materials[i].fiber);
+        }
         plm_feather_texture_free(&scene->materials[i].texture);
         if (scene->materials[i].feather && !scene->materials[i].shares_feather) {
             plm_feather_params_free_tables(scene->materials[i].feather);
@@ -126,7 +132,19 @@ int plm_scene_add_mesh(plm_scene *scene, const char *name, plm_mesh *mesh)
         return -1;
     snprintf(scene->meshes[i].name, PLM_NAME_MAX, "%s", name);
     scene->meshes[i].mesh = *mesh;
+    memset(&scene->meshes[i].curves, 0, sizeof scene->meshes[i].curves);
     memset(mesh, 0, sizeof *mesh);
+    return i;
+}
+
+int plm_scene_add_curves(plm_scene *scene, const char *name, plm_curves *curves)
+{
+    plm_mesh none = {0};
+    int i = plm_scene_add_mesh(scene, name, &none);
+    if (i >= 0) {
+        scene->meshes[i].curves = *curves;
+        memset(curves, 0, sizeof *curves);
+    }
     return i;
 }
 

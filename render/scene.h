@@ -8,12 +8,14 @@
 
 #include <stdint.h>
 
+#include "common/curves.h"
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/mesh.h"
 #include "common/params.h"
 #include "common/vec.h"
 #include "optics/feather_texture.h"
+#include "optics/fiber_params.h"
 #include "render/transform.h"
 
 #define PLM_NAME_MAX 128
@@ -84,10 +86,20 @@ plm_light plm_light_default(plm_light_type type);
 typedef enum plm_material_type {
     PLM_MATERIAL_DIFFUSE = 0,
     PLM_MATERIAL_FEATHER = 1,
-    PLM_MATERIAL_COAT = 2 /* a glossy dielectric coat over a diffuse base (optics/coat.h) */
+    PLM_MATERIAL_COAT = 2, /* a glossy dielectric coat over a diffuse base (optics/coat.h) */
+    PLM_MATERIAL_FIBER = 3 /* curves: a fiber BCSDF across each curve (a feather's fluff) */
 } plm_material_type;
 
 struct plm_feather_params; /* optics/feather_bsdf.h */
+struct plm_fiber_table;    /* optics/fiber_table.h */
+
+/* A fiber material's fiber and its table (plm_world_build gets it; NULL
+ * until then, and with the stochastic estimator). */
+typedef struct plm_fiber_material {
+    plm_fiber_params fiber;
+    int stochastic; /* 1: the stochastic estimator instead of the table (docs/fiber.md) */
+    struct plm_fiber_table *table;
+} plm_fiber_material;
 
 typedef struct plm_material {
     char name[PLM_NAME_MAX];
@@ -100,6 +112,8 @@ typedef struct plm_material {
     struct plm_feather_params *feather;      /* feather only, malloc'd */
     int shares_feather; /* feather belongs to an earlier material: feathers of one species share their
                            optics and so their fiber tables (tens of MB each) */
+    plm_fiber_material *fiber; /* fiber only, malloc'd */
+    int shares_fiber;          /* fiber belongs to an earlier material, as shares_feather */
     /* Feather only: the generator's pigment image (channels in
      * common/feather_texture_contract.h; no pixels = none) and the colours
      * it mixes in: a texel's scattered colour is multiplied by
@@ -108,9 +122,11 @@ typedef struct plm_material {
     rgb band_tint, tip_tint;
 } plm_material;
 
+/* A triangle mesh, or curves (then mesh is empty): a feather's fluff. */
 typedef struct plm_scene_mesh {
     char name[PLM_NAME_MAX];
     plm_mesh mesh;
+    plm_curves curves;
 } plm_scene_mesh;
 
 /* What part of a bird an instance is, for the ID pass (render/visibility.h):
@@ -174,6 +190,8 @@ void plm_scene_free(plm_scene *scene);
  * add_mesh takes ownership of mesh's arrays; add_material of the texture
  * and feather parameters. */
 int plm_scene_add_mesh(plm_scene *scene, const char *name, plm_mesh *mesh);
+/* Curves as a mesh of the scene (instanced like one); takes ownership of the arrays. */
+int plm_scene_add_curves(plm_scene *scene, const char *name, plm_curves *curves);
 int plm_scene_add_material(plm_scene *scene, const plm_material *material);
 int plm_scene_add_light(plm_scene *scene, const plm_light *light);
 int plm_scene_add_instance(plm_scene *scene, const plm_instance *instance);

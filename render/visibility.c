@@ -19,17 +19,29 @@ void plm_visibility_free(plm_visibility *v)
 
 /* Where along its feather a hit at world point p on instance i lies: the
  * object-space y over the mesh's extent along y (0 at the calamus base). */
-static float along(const plm_world *w, int i, vec3 p)
+static float along(const plm_world *w, const double *feather_extent, int i, vec3 p)
 {
     const plm_instance *in = &w->scene->instances[i];
     const plm_prototype *pr = &w->prototypes[w->instance_prototype[i]];
     vec3 q = plm_xform_point(in->xform.inv, p);
-    double extent = pr->hi.y;
+    double extent = in->feather > 0 ? feather_extent[in->feather] : pr->hi.y;
     return extent > 0.0 ? (float)plm_clamp(q.y / extent, 0.0, 1.0) : 0.0f;
 }
 
+/* Each placed feather's extent along its object +y: the largest of its
+ * parts' (the fluff reaches only part way up the vane). */
+static double *feather_extents(const plm_world *w)
+{
+    const plm_scene *s = w->scene;
+    double *e = calloc((size_t)s->feather_count + 1, sizeof *e);
+    for (int i = 0; e && i < s->instance_count; ++i)
+        e[s->instances[i].feather] = fmax(e[s->instances[i].feather], w->prototypes[w->instance_prototype[i]].hi.y);
+    return e;
+}
+
 /* One ray: every surface it crosses, the feathers among them counted once each. */
-static void trace_ray(const plm_world *w, const plm_camera *c, int x, int y, plm_visibility *out)
+static void trace_ray(const plm_world *w, const double *feather_extent, const plm_camera *c, int x, int y,
+                      plm_visibility *out)
 {
     size_t pixel = (size_t)y * out->width + x;
     vec3 o, d;
@@ -44,7 +56,7 @@ static void trace_ray(const plm_world *w, const plm_camera *c, int x, int y, plm
             out->instance[pixel] = instance;
             out->feather[pixel] = in->feather;
             out->part[pixel] = (unsigned char)in->part;
-            out->v[pixel] = along(w, instance, v3_madd(o, d, t));
+            out->v[pixel] = along(w, feather_extent, instance, v3_madd(o, d, t));
             out->hits++;
             out->part_hits[in->part]++;
             if (in->feather > 0) {
@@ -85,7 +97,9 @@ plm_result plm_visibility_trace(const plm_world *w, const plm_camera *camera, pl
     out->part = calloc(n, sizeof *out->part);
     out->v = malloc(n * sizeof *out->v);
     out->feathers = calloc((size_t)out->feather_count + 1, sizeof *out->feathers);
-    if (!out->instance || !out->feather || !out->part || !out->v || !out->feathers) {
+    double *extent = feather_extents(w);
+    if (!out->instance || !out->feather || !out->part || !out->v || !out->feathers || !extent) {
+        free(extent);
         plm_visibility_free(out);
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d ID pass", c.width, c.height);
     }
@@ -97,7 +111,8 @@ plm_result plm_visibility_trace(const plm_world *w, const plm_camera *camera, pl
         out->feathers[f].v_min = 2.0f;
     for (int y = 0; y < c.height; ++y)
         for (int x = 0; x < c.width; ++x)
-            trace_ray(w, &c, x, y, out);
+            trace_ray(w, extent, &c, x, y, out);
+    free(extent);
     return PLM_OK;
 }
 

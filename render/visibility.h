@@ -38,8 +38,9 @@ typedef struct plm_visibility {
     int *feather;        /* that instance's feather (1..feather_count); 0: none */
     unsigned char *part; /* its plm_part (PLM_PART_OTHER where the ray escapes) */
     float *v;            /* where along the feather it ends: the hit's coordinate along the instance's
-                            object +y over the mesh's extent there, 0 at the calamus base, 1 at the tip
-                            (feather frame, generate/species.h); -1 where the ray escapes */
+                            object +y over the feather's extent there (its parts' largest), 0 at the
+                            calamus base, 1 at the tip (feather frame, generate/species.h); -1 where
+                            the ray escapes */
     int feather_count;          /* the scene's */
     plm_feather_view *feathers; /* indexed by feather id, 1..feather_count (entry 0 unused) */
     long long rays, hits;       /* hits: rays that end on a surface */

@@ -153,8 +153,56 @@ static int all_background(const plm_mesh *m, const plm_feather_texture *t, int t
     return 1;
 }
 
+static void grow_box(vec3 *lo, vec3 *hi, vec3 q, double r)
+{
+    *lo = v3(fmin(lo->x, q.x - r), fmin(lo->y, q.y - r), fmin(lo->z, q.z - r));
+    *hi = v3(fmax(hi->x, q.x + r), fmax(hi->y, q.y + r), fmax(hi->z, q.z + r));
+}
+
+/* Curves as round linear curves: a cone between consecutive points, Embree
+ * reading the points where they are (the scene outlives the world). */
+static plm_result build_curves(plm_embree *embree, plm_prototype *p, plm_error *err)
+{
+    const plm_curves *c = p->curves;
+    int segments = plm_curves_segment_count(c);
+    p->triangle = malloc(sizeof *p->triangle * (size_t)(segments + 1));
+    if (!p->triangle)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for %d curve segments", segments);
+    int k = 0;
+    for (int i = 0; i < c->curve_count; ++i)
+        for (int j = c->first[i]; j + 1 < c->first[i + 1]; ++j)
+            p->triangle[k++] = (unsigned)j;
+    p->lo = v3(INFINITY, INFINITY, INFINITY);
+    p->hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (int v = 0; v < c->point_count; ++v) {
+        const float *q = c->points + 4 * (size_t)v;
+        grow_box(&p->lo, &p->hi, v3(q[0], q[1], q[2]), q[3]);
+    }
+    RTCGeometry g = rtcNewGeometry(embree->device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, c->points, 0, 4 * sizeof(float),
+                               (size_t)c->point_count);
+    unsigned *idx = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned),
+                                            (size_t)segments);
+    char what[64];
+    snprintf(what, sizeof what, "curves of %d segments", segments);
+    if (!idx) {
+        rtcReleaseGeometry(g);
+        plm_result rc = plm_embree_check(embree, what, err);
+        return rc != PLM_OK ? rc : plm_fail(err, PLM_ERR_NO_MEMORY, "Embree, %s: no buffer", what);
+    }
+    memcpy(idx, p->triangle, sizeof(unsigned) * (size_t)segments);
+    rtcCommitGeometry(g);
+    p->rtc = rtcNewScene(embree->device);
+    rtcAttachGeometry(p->rtc, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(p->rtc);
+    return plm_embree_check(embree, what, err);
+}
+
 static plm_result build_prototype(plm_embree *embree, plm_prototype *p, plm_error *err)
 {
+    if (p->curves)
+        return build_curves(embree, p, err);
     const plm_mesh *m = p->mesh;
     p->triangle = malloc(sizeof *p->triangle * (size_t)(m->triangle_count + 1));
     if (!p->triangle)
@@ -165,11 +213,8 @@ static plm_result build_prototype(plm_embree *embree, plm_prototype *p, plm_erro
             p->triangle[kept++] = (unsigned)i;
     p->lo = v3(INFINITY, INFINITY, INFINITY);
     p->hi = v3(-INFINITY, -INFINITY, -INFINITY);
-    for (int v = 0; v < m->vertex_count; ++v) {
-        vec3 q = mesh_vec3(m->positions, (uint32_t)v);
-        p->lo = v3(fmin(p->lo.x, q.x), fmin(p->lo.y, q.y), fmin(p->lo.z, q.z));
-        p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
-    }
+    for (int v = 0; v < m->vertex_count; ++v)
+        grow_box(&p->lo, &p->hi, mesh_vec3(m->positions, (uint32_t)v), 0.0);
     RTCDevice device = embree->device;
     p->rtc = rtcNewScene(device);
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -220,7 +265,8 @@ static plm_result build_prototypes(plm_world *w, plm_error *err)
     if (!w->prototypes || !w->instance_prototype)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for %d instances", s->instance_count);
     for (int i = 0; i < s->instance_count; ++i) {
-        const plm_mesh *mesh = &s->meshes[s->instances[i].mesh].mesh;
+        const plm_scene_mesh *sm = &s->meshes[s->instances[i].mesh];
+        const plm_mesh *mesh = &sm->mesh;
         const plm_material *m = &s->materials[s->instances[i].material];
         const plm_feather_texture *mask = material_mask(m);
         int transmissive = material_transmits(m), k = 0;
@@ -229,6 +275,7 @@ static plm_result build_prototypes(plm_world *w, plm_error *err)
             ++k;
         if (k == w->prototype_count) {
             w->prototypes[k].mesh = mesh;
+            w->prototypes[k].curves = sm->curves.curve_count > 0 ? &sm->curves : NULL;
             w->prototypes[k].mask = mask;
             w->prototypes[k].transmissive = transmissive;
             w->prototype_count++; /* counted first, so plm_world_free releases a half-built one */
@@ -373,6 +420,11 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
             plm_world_free(w);
             return rc;
         }
+        plm_fiber_material *fm = scene->materials[i].fiber; /* shared ones get theirs once */
+        if (fm && !fm->stochastic && !fm->table && (rc = plm_fiber_table_get(&fm->fiber, &tables, &fm->table, err))) {
+            plm_world_free(w);
+            return rc;
+        }
     }
     w->lights = calloc((size_t)scene->light_count + 1, sizeof *w->lights);
     if (!w->lights) {
@@ -489,6 +541,7 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
             hit->ng = v3_neg(hit->ng);
     }
     hit->uv = triangle_uv(m, prim, b1, b2);
+    hit->fiber_radius = 0.0;
     /* dP/du and dP/dv of the triangle's linear parameterisation (pbrt's). */
     vec3 dpdu, dpdv;
     double det = 0.0;
@@ -516,6 +569,34 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
     plm_material_surface_at(hit, site);
 }
 
+/* World-space surface state on a curve segment (its first point `first`)
+ * at parameter u along it, hit at o + t d with Embree's object-space normal ng. */
+static void fill_curve_hit(const plm_world *w, unsigned inst, unsigned first, double u, vec3 ng, vec3 o, vec3 d,
+                           double t, double cone_width, plm_hit *hit)
+{
+    const plm_instance *in = &w->scene->instances[inst];
+    const float *a = w->scene->meshes[in->mesh].curves.points + 4 * (size_t)first, *b = a + 4;
+    vec3 p0 = v3(a[0], a[1], a[2]), along = v3_sub(v3(b[0], b[1], b[2]), p0);
+    vec3 axis = v3_normalize(plm_xform_vector(in->xform.m, along));
+    /* The radius scales as a direction across the axis does. */
+    double scale = v3_length(plm_xform_vector(in->xform.m, frame_from_z(v3_normalize(along)).x));
+    hit->p = v3_madd(o, d, t);
+    hit->fiber_axis_point = plm_xform_point(in->xform.m, v3_madd(p0, along, u));
+    hit->fiber_radius = scale * (a[3] + u * (b[3] - a[3]));
+    vec3 n = plm_xform_normal(&in->xform, ng);
+    if (!(v3_length(n) > 0.0) || !isfinite(n.x + n.y + n.z))
+        n = v3_sub(hit->p, hit->fiber_axis_point);
+    hit->ng = hit->n = v3_normalize(n);
+    hit->dpdu = axis;
+    hit->dpdv = v3_cross(hit->n, axis);
+    hit->uv = v2(u, 0.0);
+    hit->tint = in->tint;
+    hit->material = &w->scene->materials[in->material];
+    hit->cone_width = cone_width;
+    hit->ray_dir = d;
+    plm_material_surface_at(hit, NULL);
+}
+
 static void init_context(query_context *ctx, const plm_world *w, int transparent)
 {
     rtcInitIntersectContext(&ctx->rtc);
@@ -538,8 +619,13 @@ static int intersect(const plm_world *w, query_context *ctx, vec3 o, vec3 d, dou
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return 0;
     *t = rh.ray.tfar;
-    unsigned inst = rh.hit.instID[0], prim = w->prototypes[w->instance_prototype[inst]].triangle[rh.hit.primID];
-    if (!(ctx->kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
+    unsigned inst = rh.hit.instID[0];
+    const plm_prototype *proto = &w->prototypes[w->instance_prototype[inst]];
+    unsigned prim = proto->triangle[rh.hit.primID];
+    if (proto->curves)
+        fill_curve_hit(w, inst, prim, rh.hit.u, v3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), o, d, rh.ray.tfar,
+                       cone_width(ctx, rh.ray.tfar), hit);
+    else if (!(ctx->kept && ctx->kept_inst == inst && ctx->kept_prim == prim && ctx->kept_t == rh.ray.tfar))
         fill_hit(w, inst, prim, rh.hit.u, rh.hit.v, NULL, cone_width(ctx, rh.ray.tfar), d, hit);
     else if (ctx->kept != hit)
         *hit = *ctx->kept;
@@ -608,7 +694,18 @@ double plm_world_transmittance(const plm_world *w, vec3 o, vec3 d, double tmax)
     return product * ctx.overflow;
 }
 
+/* Rays leave a fiber from its axis, beyond its surface along d (an
+ * infinite cylinder's, r / sin of d's angle to the axis, at most ten radii
+ * for directions along it): the fiber BCSDF has already taken the light
+ * through the fiber, so a ray must not meet its inside. */
+#define FIBER_EXIT_MAX 10.0
+
 vec3 plm_world_offset(const plm_world *w, const plm_hit *hit, vec3 d)
 {
+    if (hit->fiber_radius > 0.0) {
+        double across = v3_length(v3_cross(d, hit->dpdu));
+        double exit = hit->fiber_radius * fmin(1.02 / fmax(across, 1e-9), FIBER_EXIT_MAX);
+        return v3_madd(hit->fiber_axis_point, d, exit + w->epsilon);
+    }
     return v3_madd(hit->p, hit->ng, v3_dot(d, hit->ng) >= 0.0 ? w->epsilon : -w->epsilon);
 }

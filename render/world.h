@@ -13,13 +13,16 @@
 
 /* A mesh as Embree sees it, with the texture whose background texels its
  * filter functions remove (NULL: nothing is removed), and whether its
- * material lets light through (then transparent shadow queries pass it). */
+ * material lets light through (then transparent shadow queries pass it);
+ * or curves, traced as round linear curves (opaque, no filter). */
 typedef struct plm_prototype {
     const plm_mesh *mesh;
+    const plm_curves *curves; /* NULL: a triangle mesh */
     const plm_feather_texture *mask;
     int transmissive;
     RTCScene rtc;
-    unsigned *triangle; /* Embree primitive -> mesh triangle (triangles all on background are left out) */
+    unsigned *triangle; /* Embree primitive -> mesh triangle (triangles all on background are left out), or for
+                           curves the first point of the segment */
     vec3 lo, hi;        /* the mesh's bounds */
 } plm_prototype;
 

@@ -44,12 +44,12 @@ static const plm_feather_cache_entry *find(const plm_feather_cache *c, const plm
 }
 
 /* A species' optics block (root's; absent: an empty one, which means every
- * default) into the feather material, and a copy of the block. `at` is the
- * species' field path in `file` ("" for a species file). */
-static plm_result read_optics(const char *file, const char *at, cJSON *root, plm_material *feather, cJSON **optics_out,
-                              plm_error *err)
+ * default) into the feather material and the fluff's fiber, and a copy of
+ * the block. `at` is the species' field path in `file` ("" for a species file). */
+static plm_result read_optics(const char *file, const char *at, cJSON *root, plm_material *feather,
+                              plm_fiber_material *fluff, cJSON **optics_out, plm_error *err)
 {
-    static const char *const optics_keys[] = {"barb", "barbule", "masking", NULL};
+    static const char *const optics_keys[] = {"barb", "barbule", "masking", "fluff", NULL};
     const cJSON *optics = cJSON_GetObjectItemCaseSensitive(root, "optics");
     if (!optics)
         optics = cJSON_AddObjectToObject(root, "optics");
@@ -58,6 +58,10 @@ static plm_result read_optics(const char *file, const char *at, cJSON *root, plm
     snprintf(path, sizeof path, "%s%soptics", at, at[0] ? "." : "");
     plm_result rc = optics ? plm_feather_optics_read(&r, optics, path, optics_keys, feather)
                            : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    if (rc == PLM_OK && (rc = plm_fluff_optics_read(&r, optics, path, feather->feather, fluff)) != PLM_OK) {
+        free(feather->feather);
+        feather->feather = NULL;
+    }
     if (rc == PLM_OK && !(*optics_out = cJSON_Duplicate(optics, 1))) {
         free(feather->feather);
         feather->feather = NULL;
@@ -70,7 +74,7 @@ static plm_result read_optics(const char *file, const char *at, cJSON *root, plm
  * optics block (which generate/ does not keep) into the feather material.
  * A species file, or one inline in another file (then messages give its path there). */
 static plm_result read_species(const plm_feather_request *q, plm_species *species, plm_material *feather,
-                               cJSON **optics_out, plm_error *err)
+                               plm_fiber_material *fluff, cJSON **optics_out, plm_error *err)
 {
     cJSON *root = NULL;
     const char *at = q->inline_species ? q->inline_path : "";
@@ -81,7 +85,7 @@ static plm_result read_species(const plm_feather_request *q, plm_species *specie
     if (rc != PLM_OK)
         return rc;
     rc = plm_species_parse_at(root, q->species, at, species, err);
-    if (rc == PLM_OK && (rc = read_optics(q->species, at, root, feather, optics_out, err)) != PLM_OK)
+    if (rc == PLM_OK && (rc = read_optics(q->species, at, root, feather, fluff, optics_out, err)) != PLM_OK)
         plm_species_free(species);
     cJSON_Delete(root);
     return rc;
@@ -91,10 +95,11 @@ plm_result plm_species_optics_load(const char *species, cJSON **optics, rgb *rac
 {
     cJSON *root = NULL;
     plm_material feather;
+    plm_fiber_material fluff;
     memset(&feather, 0, sizeof feather);
     *optics = NULL;
     plm_result rc = plm_json_load(species, &root, err);
-    if (rc == PLM_OK && (rc = read_optics(species, "", root, &feather, optics, err)) == PLM_OK) {
+    if (rc == PLM_OK && (rc = read_optics(species, "", root, &feather, &fluff, optics, err)) == PLM_OK) {
         *rachis = feather.reflectance;
         free(feather.feather);
     }
@@ -110,13 +115,44 @@ static double extent_y(const plm_mesh *m)
     return hi > lo ? hi - lo : 0.0;
 }
 
-/* An earlier feather's parameters read from the same optics block, or NULL. */
-static struct plm_feather_params *same_optics(const plm_feather_cache *c, const plm_scene *scene, const cJSON *optics)
+/* An earlier feather's parts read from the same optics block, or NULL. */
+static const plm_feather_parts *same_optics(const plm_feather_cache *c, const cJSON *optics)
 {
     for (int i = 0; i < c->count; ++i)
         if (cJSON_Compare(c->entries[i].optics, optics, 1))
-            return scene->materials[c->entries[i].parts.material[0]].feather;
+            return &c->entries[i].parts;
     return NULL;
+}
+
+/* The fluff's curves and fiber material (its parameters shared with an
+ * earlier feather of the same optics), if the feather has any. Takes the
+ * curves; frees the parameters it does not hand to the scene. */
+static plm_result add_fluff(plm_scene *scene, const char *name, plm_curves *curves,
+                            const plm_fiber_material *fiber, plm_fiber_material *shared, plm_feather_parts *out,
+                            plm_error *err)
+{
+    if (curves->curve_count == 0)
+        return PLM_OK;
+    plm_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "%.100s.fluff", name);
+    m.type = PLM_MATERIAL_FIBER;
+    m.shares_fiber = shared != NULL;
+    m.fiber = shared ? shared : malloc(sizeof *m.fiber);
+    if (!m.fiber)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    if (!shared)
+        *m.fiber = *fiber;
+    int k = out->count;
+    out->part[k] = PLM_PART_FLUFF;
+    if ((out->mesh[k] = plm_scene_add_curves(scene, m.name, curves)) < 0 ||
+        (out->material[k] = plm_scene_add_material(scene, &m)) < 0) {
+        if (!shared)
+            free(m.fiber);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    }
+    out->count++;
+    return PLM_OK;
 }
 
 /* The feather's files in its own folder of the cache's asset folder. */
@@ -147,18 +183,23 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
         return plm_fail(err, PLM_ERR_INVALID, "feather \"%s\" is already defined (names must be unique)", name);
     plm_species species;
     plm_material feather, rachis;
+    plm_fiber_material fluff;
     memset(&feather, 0, sizeof feather);
     memset(&rachis, 0, sizeof rachis);
-    plm_result rc = read_species(q, &species, &feather, optics, err);
+    plm_result rc = read_species(q, &species, &feather, &fluff, optics, err);
     if (rc != PLM_OK)
         return rc;
     /* Variants (and species) that differ in shape and pigment but not in
-     * optics share one set of feather parameters, and so their fiber tables. */
-    struct plm_feather_params *shared = same_optics(cache, scene, *optics);
+     * optics share one set of feather and fluff parameters, and so their fiber tables. */
+    const plm_feather_parts *shared = same_optics(cache, *optics);
+    plm_fiber_material *shared_fluff = NULL;
     if (shared) {
         free(feather.feather);
-        feather.feather = shared;
+        feather.feather = scene->materials[shared->material[0]].feather;
         feather.shares_feather = 1;
+        for (int k = 0; k < shared->count; ++k)
+            if (shared->part[k] == PLM_PART_FLUFF)
+                shared_fluff = scene->materials[shared->material[k]].fiber;
     }
     /* A variant is another individual of the species: its own random choices. */
     plm_shape shape;
@@ -200,8 +241,9 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
         taken = (out->mesh[0] = plm_scene_add_mesh(scene, vane_name, &f.vane)) >= 0 &&
                 (out->mesh[1] = plm_scene_add_mesh(scene, rachis_name, &f.rachis)) >= 0 &&
                 (out->material[1] = plm_scene_add_material(scene, &rachis)) >= 0 &&
+                (rc = add_fluff(scene, name, &f.fluff, &fluff, shared_fluff, out, err)) == PLM_OK &&
                 (out->material[0] = plm_scene_add_material(scene, &feather)) >= 0;
-        if (!taken)
+        if (!taken && rc == PLM_OK)
             rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
     }
     if (!taken) {

@@ -16,12 +16,14 @@
 #include "generate/species.h"
 #include "render/scene.h"
 
-/* What placing one feather adds: the vane with the feather material and the
- * rachis tube with a diffuse material in the rachis colour. */
+/* What placing one feather adds: the vane with the feather material, the
+ * rachis tube with a diffuse material in the rachis colour and, where the
+ * species has any, the fluff's curves with a fiber material. */
+#define PLM_FEATHER_PARTS_MAX 3
 typedef struct plm_feather_parts {
-    int count; /* 2 for a generated feather; 1 for a plain mesh */
-    int mesh[2], material[2];
-    plm_part part[2]; /* what each is for the ID pass: vane and rachis, or the plain mesh's part */
+    int count; /* 2 or 3 for a generated feather; 1 for a plain mesh */
+    int mesh[PLM_FEATHER_PARTS_MAX], material[PLM_FEATHER_PARTS_MAX];
+    plm_part part[PLM_FEATHER_PARTS_MAX]; /* for the ID pass: vane, rachis, fluff, or the plain mesh's part */
     double length; /* the feather's extent along its rachis (+y), mm */
 } plm_feather_parts;
 
@@ -54,7 +56,7 @@ typedef struct plm_feather_cache {
 
 /* The parts of the requested feather, generated into scene on the first
  * request. `name` names the new meshes and materials (NAME.vane,
- * NAME.rachis, NAME, NAME.rachis; at most 100 characters) and is unused on a
+ * NAME.rachis, NAME.fluff, NAME, NAME.rachis, NAME.fluff; at most 100 characters) and is unused on a
  * cache hit. Errors from the species name its file. */
 plm_result plm_feather_cache_get(plm_feather_cache *cache, plm_scene *scene, const char *name,
                                  const plm_feather_request *request, plm_feather_parts *out, plm_error *err);

@@ -390,6 +390,20 @@ plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, c
     return rc;
 }
 
+plm_result plm_fluff_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
+                                 const struct plm_feather_params *feather, plm_fiber_material *out)
+{
+    memset(out, 0, sizeof *out);
+    out->fiber = feather->barb;
+    /* Across e3 the cortex shrinks from the barb's eccentricity to 1, and so does the medulla, which stays inside. */
+    double e = out->fiber.eccentricity;
+    out->fiber.eccentricity = 1.0;
+    out->fiber.medulla_b /= e;
+    out->fiber.medulla_cb /= e;
+    out->stochastic = feather->bcsdf == PLM_BCSDF_STOCHASTIC;
+    return read_fiber(r, obj, path, "fluff", &out->fiber);
+}
+
 static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
     static const char *const extra[] = {"type", "texture", "barb", "barbule", "masking", "bcsdf", NULL};

@@ -56,6 +56,14 @@ plm_result plm_scene_load_json(const cJSON *root, const char *name, plm_scene *s
 plm_result plm_feather_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
                                    const char *const *extra, plm_material *m);
 
+/* The fiber of a feather's fluff (render/scene.h's fiber material) from a
+ * species' optics block obj at path: the barb's fiber made circular (its
+ * medulla scaled across with it, so it stays inside), taking the barb's
+ * estimator; an optics "fluff" fiber block (docs/fiber.md's fields and
+ * pigments) sets any of it. */
+plm_result plm_fluff_optics_read(const plm_json_reader *r, const cJSON *obj, const char *path,
+                                 const struct plm_feather_params *feather, plm_fiber_material *out);
+
 /* A file path field (required or not; absent -> ""), resolved against the
  * directory of the file r reads. out holds PLM_PATH_MAX characters. */
 plm_result plm_scene_read_path(const plm_json_reader *r, const cJSON *obj, const char *path, const char *key,

@@ -102,7 +102,7 @@ static double relief(const plm_layout *l, const plm_layout_instance *in, const p
 }
 
 /* The alula at the bend of the wing, lying on the feathers there. Each alula
- * feather's basal half (its pennaceous vane points with v < 1/2) is compared
+ * feather's basal half (its vane points with v < 1/2, the downy base's too) is compared
  * with the highest point of the feathers of lower dorsal order in each
  * point's grid cell: at least half of it must lie over them, not in the air
  * beyond the leading edge, and it must rest on them, coming within its own
@@ -120,8 +120,10 @@ static void alula_rests_on(const plm_layout *l, const plm_feather *f, const stac
         double closest = INFINITY;
         for (int v = 0; v < ft->vane.vertex_count; ++v) {
             vec2 p = plm_outline_flat(&ft->outline, ft->vane.uvs[2 * v], ft->vane.uvs[2 * v + 1]);
+            /* The downy base counts: its barbs are fibers (generate/fluff.h) lying where the mesh is. */
+            int downy = ft->vane.uvs[2 * v + 1] < ft->outline.shape.plumulaceous;
             if (ft->vane.uvs[2 * v + 1] >= 0.5f ||
-                plm_outline_sample(&ft->outline, p.x, p.y).region == PLM_FLAT_BACKGROUND)
+                (!downy && plm_outline_sample(&ft->outline, p.x, p.y).region == PLM_FLAT_BACKGROUND))
                 continue;
             const float *x = ft->vane.positions + 3 * v;
             vec3 q = xf(in, v3(x[0], x[1], x[2]));

@@ -383,19 +383,25 @@ static void species_feathers_are_generated_once(void **state)
     plm_scene s;
     plm_error err = {{0}};
     assert_int_equal(plm_scene_load_buffer(text, strlen(text), "mem", &s, &err), PLM_OK);
-    assert_int_equal(s.mesh_count, 4);     /* vane and rachis of a (= b) and of c */
-    assert_int_equal(s.material_count, 4); /* feather and rachis materials of each */
-    assert_int_equal(s.instance_count, 6);
-    assert_int_equal(s.instances[0].mesh, s.instances[2].mesh);
-    assert_int_equal(s.instances[1].material, s.instances[3].material);
-    assert_int_not_equal(s.instances[0].mesh, s.instances[4].mesh);
+    assert_int_equal(s.mesh_count, 6);     /* vane, rachis and fluff of a (= b) and of c */
+    assert_int_equal(s.material_count, 6); /* feather, rachis and fluff materials of each */
+    assert_int_equal(s.instance_count, 9);
+    assert_int_equal(s.instances[0].mesh, s.instances[3].mesh);
+    assert_int_equal(s.instances[1].material, s.instances[4].material);
+    assert_int_not_equal(s.instances[0].mesh, s.instances[6].mesh);
     assert_int_equal(plm_scene_find_mesh(&s, "a.vane"), s.instances[0].mesh);
+    assert_int_equal(plm_scene_find_mesh(&s, "a.fluff"), s.instances[2].mesh);
     assert_int_equal(s.materials[s.instances[0].material].type, PLM_MATERIAL_FEATHER);
-    /* The variant has its own texture but shares the species' optics (and fiber tables). */
-    const plm_material *ma = &s.materials[s.instances[0].material], *mc = &s.materials[s.instances[4].material];
+    /* The variant has its own texture and fluff but shares the species' optics (and fiber tables). */
+    const plm_material *ma = &s.materials[s.instances[0].material], *mc = &s.materials[s.instances[6].material];
     assert_ptr_equal(ma->feather, mc->feather);
     assert_true(mc->shares_feather && !ma->shares_feather);
     assert_ptr_not_equal(ma->texture.pixels, mc->texture.pixels);
+    const plm_material *fa = &s.materials[s.instances[2].material], *fc = &s.materials[s.instances[8].material];
+    assert_int_equal(fa->type, PLM_MATERIAL_FIBER);
+    assert_ptr_equal(fa->fiber, fc->fiber);
+    assert_true(fc->shares_fiber && !fa->shares_fiber);
+    assert_int_not_equal(s.instances[2].mesh, s.instances[8].mesh);
     plm_scene_free(&s);
     /* A species file's errors name the scene field that named it. */
     snprintf(text, sizeof text, "{\"feathers\": {\"x\": {\"species\": \"%s/no_such_species.json\"}}}", dir);
@@ -432,7 +438,7 @@ static void species_fields_have_one_range_everywhere(void **state)
     plm_scene s;
     plm_error err = {{0}};
     assert_int_equal(plm_scene_load(path, &s, &err), PLM_OK);
-    assert_int_equal(s.instance_count, 2);
+    assert_int_equal(s.instance_count, 3); /* vane, rachis, fluff */
     plm_scene_free(&s);
     const char *set[] = {"feathers.f.species.shape.length=5000"};
     assert_int_not_equal(plm_scene_load_with(path, set, 1, &s, &err), PLM_OK);
@@ -441,7 +447,7 @@ static void species_fields_have_one_range_everywhere(void **state)
     assert_non_null(strstr(err.message, range));
 }
 
-/* A pelt block places count feathers (vane and rachis each) from a few
+/* A pelt block places count feathers (vane, rachis and fluff each) from a few
  * prototypes generated once, plus its surface; the same seed gives the same
  * scene, another seed another; a species without optics takes the defaults. */
 static void layout_blocks_place_generated_prototypes(void **state)
@@ -463,9 +469,9 @@ static void layout_blocks_place_generated_prototypes(void **state)
         if (load(name, &s[k], &err) != PLM_OK)
             fail_msg("%s", err.message);
     }
-    /* 2 species entries x 2 variants = 4 prototypes: 8 feather meshes and the surface. */
-    assert_int_equal(s[0].mesh_count, 9);
-    assert_int_equal(s[0].instance_count, 2 * 30 + 1);
+    /* 2 species entries x 2 variants = 4 prototypes: 12 feather meshes (vane, rachis, fluff) and the surface. */
+    assert_int_equal(s[0].mesh_count, 13);
+    assert_int_equal(s[0].instance_count, 3 * 30 + 1);
     int pigmented = 0;
     for (int m = 0; m < s[0].material_count; ++m) {
         const plm_material *mat = &s[0].materials[m];
@@ -520,9 +526,9 @@ static void layout_blocks_place_generated_prototypes(void **state)
     plm_scene w;
     if (load("wing.json", &w, &err) != PLM_OK)
         fail_msg("%s", err.message);
-    assert_true(w.instance_count > 2 * (9 + 12 + 3));
-    assert_int_equal(w.instance_count % 2, 0);
-    assert_int_equal(w.mesh_count, 2 * 7); /* one prototype per row */
+    assert_true(w.instance_count > 3 * (9 + 12 + 3));
+    assert_int_equal(w.instance_count % 3, 0);
+    assert_int_equal(w.mesh_count, 3 * 7); /* one prototype per row: vane, rachis, fluff */
     plm_scene_free(&w);
     expect_error("{\"objects\": [{\"layout\": {\"type\": \"ball\", \"species\": [\"bare.json\"], \"colour\": 1}}]}",
                  (const char *const[]){"objects[0].layout.colour", "unknown field", NULL});
