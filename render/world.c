@@ -420,8 +420,13 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
             plm_world_free(w);
             return rc;
         }
-        plm_fiber_material *fm = scene->materials[i].fiber; /* shared ones get theirs once */
-        if (fm && !fm->stochastic && !fm->table && (rc = plm_fiber_table_get(&fm->fiber, &tables, &fm->table, err))) {
+    }
+    /* The fibers' tables, of the materials instances use (shared ones get theirs once). */
+    const plm_fiber_table_options fiber_tables = {.budget_mib = scene->film.fiber_table_mib};
+    for (int i = 0; i < scene->instance_count; ++i) {
+        plm_fiber_material *fm = scene->materials[scene->instances[i].material].fiber;
+        if (fm && !fm->stochastic && !fm->table &&
+            (rc = plm_fiber_table_get(&fm->fiber, &fiber_tables, &fm->table, err)) != PLM_OK) {
             plm_world_free(w);
             return rc;
         }

@@ -94,5 +94,15 @@ expect_fail "no output directory" "$PLUMAGE" generate --species "$SPECIES/remex_
 
 # Benchmark.
 expect_output "bench generate" "generate_ms [0-9.]+" "$PLUMAGE" bench generate --species "$SPECIES/remex_pigeon.json" \
-    --runs 1 --texture-size 64
+    --runs 1 --texture-size 64 --no-presets --no-render
+# Every preset with its fluff, and the single feather rendered with and without it, in one run.
+"$PLUMAGE" bench generate --species "$SPECIES/remex_pigeon.json" --presets "$SPECIES" --runs 1 --texture-size 32 \
+    --level 1 --scene "$SPECIES/../scenes/single_feather.json" --spp 1 --width 16 --threads 1 >bench.txt 2>err.txt ||
+    fail "bench generate with presets and renders: $(head -c 400 err.txt)"
+grep -Eq "^covert_parrot +[0-9.]+ +[0-9.]+ +[0-9.]+ +[1-9][0-9]* " bench.txt && pass "bench generate: a preset's fluff" ||
+    fail "bench generate: no covert_parrot line with curves: $(head -c 600 bench.txt)"
+grep -Eq "^with_fluff instances 3 fluff_instances 1 .*samples_per_s_thread [0-9]+ peak_mib" bench.txt &&
+    grep -Eq "^without_fluff instances 2 fluff_instances 0 " bench.txt && pass "bench generate: renders with and without" ||
+    fail "bench generate: render lines: $(tail -c 600 bench.txt)"
+
 finish
