@@ -59,7 +59,11 @@ typedef struct builder {
 
 static plm_result grow_fail(plm_error *err) { return plm_fail(err, PLM_ERR_NO_MEMORY, "glTF export: out of memory"); }
 
-static int keep(const builder *b, const plm_instance *in) { return !(b->o->no_fluff && in->part == PLM_PART_FLUFF); }
+/* Curves (a generated feather's fluff) are fibers, which glTF's triangle meshes do not hold: left out too. */
+static int keep(const builder *b, const plm_instance *in)
+{
+    return b->scene->meshes[in->mesh].curves.curve_count == 0 && !(b->o->no_fluff && in->part == PLM_PART_FLUFF);
+}
 
 /* The asset mesh of an instance's (mesh, material), added on first use. */
 static int mesh_for(builder *b, const plm_instance *in)

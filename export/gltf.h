@@ -27,7 +27,7 @@ typedef struct plm_gltf_report {
     int materials;    /* with the orientation materials */
     int textures;
     int instances;    /* the scene's instances exported */
-    int left_out;     /* instances left out (fluff with no_fluff) */
+    int left_out;     /* instances left out (fluff with no_fluff; curves always) */
     double bake_seconds, write_seconds;
 } plm_gltf_report;
 

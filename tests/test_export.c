@@ -105,10 +105,15 @@ static void bake_agrees_with_the_renderers_furnace(void **state)
 
 /* --- round trips ------------------------------------------------------ */
 
+/* Curves (a feather's fluff) are not exported (export/gltf.c). */
+static int exported(const plm_scene *s, int i) { return s->meshes[s->instances[i].mesh].curves.curve_count == 0; }
+
 static int distinct_pairs(const plm_scene *s)
 {
     int n = 0;
     for (int i = 0; i < s->instance_count; ++i) {
+        if (!exported(s, i))
+            continue;
         int seen = 0;
         for (int j = 0; j < i && !seen; ++j)
             seen = s->instances[j].mesh == s->instances[i].mesh && s->instances[j].material == s->instances[i].material;
@@ -141,7 +146,7 @@ static void check_round_trip(const plm_scene *s, const plm_asset_summary *a, con
 {
     int feathers = 0, others = 0;
     for (int i = 0; i < s->instance_count; ++i) {
-        int first = 1;
+        int first = exported(s, i);
         for (int j = 0; j < i && first && s->instances[i].feather; ++j)
             first = s->instances[j].feather != s->instances[i].feather;
         feathers += s->instances[i].feather && first;
@@ -163,6 +168,8 @@ static void check_round_trip(const plm_scene *s, const plm_asset_summary *a, con
     for (int i = 0; i < s->instance_count; ++i) {
         const plm_instance *in = &s->instances[i];
         char name[64];
+        if (!exported(s, i))
+            continue;
         if (in->feather)
             snprintf(name, sizeof name, "feather_%04d", in->feather);
         else
