@@ -49,7 +49,8 @@ static int parse_row(const char *item, int *row, const char **file)
             return 1;
         }
     fprintf(stderr, "error: probe layout: --row %s: expected ROW=FILE with ROW one of primary, secondary, tertial, "
-                    "greater_covert, median_covert, lesser_covert, alula\n", item);
+                    "greater_covert, median_covert, lesser_covert, alula, primary_covert, marginal_covert, under_covert, "
+                    "speculum\n", item);
     return 0;
 }
 
@@ -159,11 +160,13 @@ int probe_layout(int argc, char **argv)
         "explains the parameters.\n"
         "Columns: instance (0-based), prototype (the distinct feather it shows: species x variant), species (index "
         "in the --species or --row order), variant, row (wing: primary 0, secondary 1, tertial 2, greater_covert 3, "
-        "median_covert 4, lesser_covert 5, alula 6; pelt and ball: -1), order (which lies over which: a feather "
+        "median_covert 4, lesser_covert 5, alula 6, primary_covert 7, marginal_covert 8, under_covert 9; pelt and "
+        "ball: -1), order (which lies over which: a feather "
         "covers every feather of smaller order it touches), scale, yaw_deg, lift_deg, tint_r/g/b, and m00..m23, the "
         "matrix's rows (m<row><column>; column 3 is where the calamus base lies). The feather frame: rachis along +y from the "
         "calamus at the origin, dorsal side +z. A wing is a right wing: shoulder at the origin, span along +x, "
-        "leading edge toward +y, its top (dorsal) side toward +z; a camera at negative z sees it from below.\n"
+        "leading edge toward +y, its top (dorsal) side toward +z; a camera at negative z sees it from below, where the "
+        "under-wing coverts (row 9) lie with their dorsal side down.\n"
         "  plumage probe layout --species presets/species/covert_parrot.json --count 200 | head -3"};
     int rc = plm_parse_options(&help, argc, argv, 1, opts, n_opts, NULL, 0, NULL);
     if (rc)

@@ -11,8 +11,17 @@
 #include "common/rng.h"
 #include "generate/layout_parts.h"
 
-const char *const plm_wing_row_names[PLM_WING_ROWS] = {"primary",        "secondary",     "tertial", "greater_covert",
-                                                       "median_covert", "lesser_covert", "alula"};
+const char *const plm_wing_row_names[PLM_WING_ROWS] = {
+    "primary",       "secondary", "tertial",        "greater_covert",   "median_covert", "lesser_covert",
+    "alula",         "primary_covert", "marginal_covert", "under_covert", "speculum"};
+
+int plm_wing_row_fallback(int row)
+{
+    static const int fallback[PLM_WING_ROWS] = {
+        -1, -1, PLM_WING_SECONDARY, PLM_WING_SECONDARY, PLM_WING_SECONDARY, PLM_WING_SECONDARY, PLM_WING_SECONDARY,
+        PLM_WING_GREATER_COVERT, PLM_WING_LESSER_COVERT, PLM_WING_MEDIAN_COVERT, PLM_WING_SECONDARY};
+    return row >= 0 && row < PLM_WING_ROWS ? fallback[row] : -1;
+}
 
 /* The skeleton of the wing at a fold: shoulder, elbow, wrist and hand tip in
  * the wing plane, and the bones' directions. Spread, the bones line up along
@@ -52,9 +61,21 @@ static vec3 on_bone(const wing_skeleton *w, int b, double t, double forward)
     return v3_madd(p, planar(w->angle[b] + 0.5 * PLM_PI), forward);
 }
 
+/* Folded, the primaries point back and a little in (degrees from +x): past
+ * the tertials' tips, toward the tail, where a perched bird's wingtips cross. */
+#define WING_FOLDED_PRIMARY -97.0
+
+/* Rows of lesser and marginal coverts, and how many coverts a row of them has. */
+#define WING_LESSER_ROWS 3
+#define WING_MARGINAL_ROWS 2
+#define WING_BAND_COUNT(ns, nt) (3 * ((ns) + (nt)))
+#define WING_MARGINAL_COUNT(band) ((band) * 2 / 3) /* as dense over their shorter reach */
+
 /* One feather of a row as the wing builds it. */
 typedef struct wing_feather {
-    int row;
+    int row;          /* its plm_wing_row */
+    int species;      /* the row whose species it takes (the speculum's for the outer secondaries) */
+    int under;        /* an under-wing covert: it faces down and lies below the wing */
     vec3 root;
     double direction; /* radians in the wing plane */
     double length;    /* layout units */
@@ -87,19 +108,76 @@ static void add_feather(wing_rows *w, int row, vec3 root, double direction, doub
 {
     wing_feather *f = &w->f[w->count++];
     f->row = row;
+    f->species = row;
+    f->under = 0;
     f->root = root;
     f->direction = direction;
     f->length = length;
 }
 
-/* Every feather of the wing in dorsal order, bottom first: primaries from the
- * outermost in (each proximal feather lies over the next distal one), then
- * the secondaries from the wrist in and the tertials; then the greater
- * coverts, the alula (the coverts at the bend of the wing cover its base),
- * and the other covert rows back to front (median, two rows of lesser
- * coverts). Lengths in layout units. */
-static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double chord, double primary, int np,
-                       int ns, int nt, wing_rows *w)
+/* A band of small coverts along the arm from the base of the hand, over the
+ * wrist, forearm and humerus to the shoulder, n of them `forward` ahead of
+ * the bones (less ahead of the hand, whose leading edge is narrower),
+ * fanning from 75 to 110 degrees behind them; `offset` (0 or 0.5 of a
+ * spacing) lets one row lie over the gaps of the row behind. */
+#define WING_BAND_HAND 0.2 /* how far out along the hand a band reaches */
+#define WING_BAND_SHOULDER 1.98 /* and how far in: 0 wrist, 1 elbow, 2 shoulder */
+/* The marginal coverts reach a third of the way up the humerus: nearer the
+ * shoulder its leading edge lies under the body's feathers, and folded, a
+ * row along the whole humerus ran round the wing's inner end like a collar. */
+#define WING_MARGINAL_REACH 1.35
+
+/* Small coverts grow from follicles scattered about their rows, not on a
+ * lattice: each root moves up to `WING_BAND_JITTER` of a spacing along the
+ * band and of the rows' spacing forward, and its length and direction vary. */
+#define WING_BAND_JITTER 0.35
+
+static void add_band(const plm_wing_params *p, const wing_skeleton *sk, wing_rows *w, int row, int n, double offset,
+                     double forward, double length, double reach)
+{
+    plm_rng rng; /* each band its own stream, named by its row and how far ahead it lies */
+    plm_rng_seed(&rng, plm_hash64(p->seed, (uint64_t)row, (uint64_t)(forward * 1e6)), PLM_LAYOUT_STREAM_PLACE);
+    double spacing = (reach + WING_BAND_HAND) / (n - 1);
+    for (int j = 0; j < n; ++j) {
+        double u = (j + offset) / (n - 1), jitter[4];
+        for (int k = 0; k < 4; ++k)
+            jitter[k] = 2.0 * plm_rng_uniform(&rng) - 1.0;
+        double along = lerp(-WING_BAND_HAND, reach, u) + WING_BAND_JITTER * spacing * jitter[0];
+        double fan = (along + WING_BAND_HAND) / (WING_BAND_SHOULDER + WING_BAND_HAND);
+        int bone = along < 0.0 ? 2 : along < 1.0 ? 1 : 0;
+        double t = bone == 2 ? -along : bone == 1 ? 1.0 - along : 2.0 - along;
+        double ahead = forward * (1.0 + 0.1 * jitter[1]);
+        if (bone == 2)
+            ahead *= 1.0 - 0.8 * t / WING_BAND_HAND;
+        add_feather(w, row, on_bone(sk, bone, plm_clamp(t, 0.0, 1.0), ahead),
+                    fold_direction(p, sk->spread[bone] - plm_radians(lerp(75.0, 110.0, fan) + 8.0 * jitter[2]), -92.0),
+                    length * (1.0 + 0.15 * jitter[3]));
+    }
+}
+
+/* A covert over (or under) the base of each flight feather,
+ * `forward` ahead of its root, as long as the given shares of the feather. */
+static void add_over_flight(const wing_skeleton *sk, wing_rows *w, int primary_row, int secondary_row,
+                            double forward, double primary_share, double secondary_share)
+{
+    for (int i = 0; i < w->flight; ++i) {
+        const wing_feather *r = &w->f[i];
+        int primary = r->row == PLM_WING_PRIMARY, bone = primary ? 2 : 1;
+        add_feather(w, primary ? primary_row : secondary_row,
+                    v3_madd(r->root, planar(sk->angle[bone] + 0.5 * PLM_PI), forward), r->direction,
+                    (primary ? primary_share : secondary_share) * r->length);
+    }
+}
+
+/* Every feather of the wing's dorsal side in dorsal order, bottom first:
+ * primaries from the outermost in (each proximal feather lies over the next
+ * distal one), then the secondaries from the wrist in and the tertials; then
+ * the primary and greater coverts, the alula (the coverts at the bend of the
+ * wing cover its base), and the other covert rows back to front (median,
+ * three rows of lesser coverts, two of marginal coverts over the leading
+ * edge). Lengths in layout units. */
+static void build_dorsal(const plm_wing_params *p, const wing_skeleton *sk, double chord, double primary, int np,
+                         int ns, int nt, wing_rows *w)
 {
     /* Primaries lengthen from about the secondaries' length at the wrist to
      * the longest three quarters of the way out; the outermost is shorter. */
@@ -108,7 +186,7 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
     for (int i = np - 1; i >= 0; --i) {
         double u = np > 1 ? (double)i / (np - 1) : 1.0;
         add_feather(w, PLM_WING_PRIMARY, on_bone(sk, 2, 0.12 + 0.88 * u, 0.0),
-                    fold_direction(p, sk->spread[2] - plm_radians(lerp(78.0, 12.0, u)), -88.0),
+                    fold_direction(p, sk->spread[2] - plm_radians(lerp(70.0, 14.0, u)), WING_FOLDED_PRIMARY),
                     ramp(primary_ramp, 4, u));
     }
     for (int j = 0; j < ns; ++j) {
@@ -116,6 +194,8 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
         add_feather(w, PLM_WING_SECONDARY, on_bone(sk, 1, 1.0 - 0.95 * u, 0.0),
                     fold_direction(p, sk->spread[1] - plm_radians(lerp(82.0, 100.0, u)), -91.0),
                     chord * (1.0 - 0.08 * u));
+        if (j < p->speculum)
+            w->f[w->count - 1].species = PLM_WING_SPECULUM;
     }
     for (int k = 0; k < nt; ++k) {
         double u = nt > 1 ? (double)k / (nt - 1) : 0.0;
@@ -123,41 +203,43 @@ static void build_wing(const plm_wing_params *p, const wing_skeleton *sk, double
                     fold_direction(p, sk->spread[0] - plm_radians(lerp(102.0, 112.0, u)), -95.0),
                     chord * (0.8 - 0.2 * u));
     }
-    /* Greater coverts over the bases of every flight feather (the primary
-     * coverts among them), in the same order. */
     w->flight = w->count;
-    for (int i = 0; i < w->flight - nt; ++i) {
-        const wing_feather *r = &w->f[i];
-        int bone = r->row == PLM_WING_PRIMARY ? 2 : 1;
-        vec3 root = v3_madd(r->root, planar(sk->angle[bone] + 0.5 * PLM_PI), 0.04 * chord);
-        add_feather(w, PLM_WING_GREATER_COVERT, root, r->direction,
-                    (r->row == PLM_WING_PRIMARY ? 0.3 : 0.42) * r->length);
-    }
+    add_over_flight(sk, w, PLM_WING_PRIMARY_COVERT, PLM_WING_GREATER_COVERT, 0.04 * chord, 0.3, 0.42);
     /* The alula at the bend of the wing, on the primary coverts' bases along
      * the hand's leading edge: the longest, on top, along it, the shorter
      * ones below fanning a little back over the coverts. */
     for (int a = 2; a >= 0; --a)
         add_feather(w, PLM_WING_ALULA, on_bone(sk, 2, 0.04 + 0.02 * a, 0.015 * chord),
                     fold_direction(p, sk->spread[2] - plm_radians(4.0 * a), -80.0), (0.3 - 0.04 * a) * chord);
-    /* Median coverts over the secondaries' coverts, lesser coverts toward the leading edge. */
-    for (int j = 0; j < ns; ++j) {
-        double u = ns > 1 ? (double)j / (ns - 1) : 0.0;
-        add_feather(w, PLM_WING_MEDIAN_COVERT, on_bone(sk, 1, 1.0 - 0.95 * u, 0.14 * chord),
-                    fold_direction(p, sk->spread[1] - plm_radians(lerp(80.0, 100.0, u)), -91.0), 0.22 * chord);
-    }
-    for (int sub = 0; sub < 2; ++sub) {
-        int n = 2 * (ns + nt);
-        for (int j = 0; j < n; ++j) {
-            /* Along forearm and humerus from the wrist in, the front row
-             * offset by half a spacing to lie over the back row's gaps. */
-            double u = (j + 0.5 * sub) / (n - 1), along = u * 1.6;
-            int bone = along < 1.0 ? 1 : 0;
-            double t = bone == 1 ? 1.0 - along : 2.0 - along;
-            add_feather(w, PLM_WING_LESSER_COVERT, on_bone(sk, bone, plm_clamp(t, 0.05, 1.0), (0.19 + 0.06 * sub) * chord),
-                        fold_direction(p, sk->spread[bone] - plm_radians(lerp(75.0, 110.0, u)), -92.0),
-                        (0.13 - 0.02 * sub) * chord);
-        }
-    }
+    /* Median coverts over the secondaries' coverts, lesser coverts toward the
+     * leading edge, each row over the gaps of the one behind, and the
+     * marginal coverts, the smallest, along the leading edge itself. */
+    add_band(p, sk, w, PLM_WING_MEDIAN_COVERT, 2 * (ns + nt), 0.0, 0.14 * chord, 0.24 * chord,
+             WING_BAND_SHOULDER);
+    int band = WING_BAND_COUNT(ns, nt);
+    for (int sub = 0; sub < WING_LESSER_ROWS; ++sub)
+        add_band(p, sk, w, PLM_WING_LESSER_COVERT, band, 0.5 * (sub & 1), (0.18 + 0.04 * sub) * chord,
+                 (0.16 - 0.015 * sub) * chord, WING_BAND_SHOULDER);
+    for (int sub = 0; sub < WING_MARGINAL_ROWS; ++sub)
+        add_band(p, sk, w, PLM_WING_MARGINAL_COVERT, WING_MARGINAL_COUNT(band), 0.5 * ((sub + WING_LESSER_ROWS) & 1),
+                 (0.18 + 0.04 * (WING_LESSER_ROWS + sub)) * chord, 0.1 * chord, WING_MARGINAL_REACH);
+}
+
+/* The under-wing coverts in the order they settle, from the flight feathers
+ * down: under greater coverts under the bases of primaries and secondaries,
+ * a median row, two lesser rows and the marginal coverts under the leading
+ * edge, each row lying below the one behind it as seen from beneath. */
+static void build_ventral(const plm_wing_params *p, const wing_skeleton *sk, double chord, int ns, int nt,
+                          wing_rows *w)
+{
+    int first = w->count;
+    add_over_flight(sk, w, PLM_WING_UNDER_COVERT, PLM_WING_UNDER_COVERT, 0.03 * chord, 0.3, 0.45);
+    int band = WING_BAND_COUNT(ns, nt);
+    for (int sub = 0; sub < 4; ++sub)
+        add_band(p, sk, w, PLM_WING_UNDER_COVERT, sub ? band : ns + nt, 0.5 * (sub & 1),
+                 (0.10 + 0.075 * sub) * chord, (0.28 - 0.05 * sub) * chord, WING_BAND_SHOULDER);
+    for (int i = first; i < w->count; ++i)
+        w->f[i].under = 1;
 }
 
 /* A height field over the wing plane: the highest z of what lies beneath. */
@@ -254,10 +336,159 @@ static void settle(height_grid *g, plm_layout_instance *in, const plm_layout_ext
     }
 }
 
+/* The instance mirrored through the wing plane (z negated). */
+static plm_layout_instance mirrored(const plm_layout_instance *in)
+{
+    plm_layout_instance m = *in;
+    for (int c = 0; c < 4; ++c)
+        m.m[2][c] = -m.m[2][c];
+    return m;
+}
+
+/* The frame's linear part orthonormal (a rotation or a reflection), or all zero. */
+static plm_result check_frame(const double f[3][4], int *identity, plm_error *err)
+{
+    *identity = 1;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            *identity &= f[r][c] == 0.0;
+    for (int a = 0; a < 3 && !*identity; ++a)
+        for (int b = a; b < 3; ++b) {
+            double dot = f[0][a] * f[0][b] + f[1][a] * f[1][b] + f[2][a] * f[2][b];
+            if (!(fabs(dot - (a == b)) < 1e-6))
+                return plm_fail(err, PLM_ERR_INVALID,
+                                "wing: frame's columns %d and %d have dot product %g; they must be orthonormal", a, b,
+                                dot);
+        }
+    return PLM_OK;
+}
+
+/* Takes an instance from wing space through the shoulder frame. */
+static void apply_frame(const double f[3][4], plm_layout_instance *in)
+{
+    double m[3][4];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            m[r][c] = f[r][0] * in->m[0][c] + f[r][1] * in->m[1][c] + f[r][2] * in->m[2][c] + (c == 3 ? f[r][3] : 0.0);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            in->m[r][c] = m[r][c];
+}
+
+static plm_result check_params(const plm_wing_params *p, int np, int ns, int nt, double span, double chord,
+                               plm_error *err)
+{
+    if (np < 2 || np > 12)
+        return plm_fail(err, PLM_ERR_INVALID, "wing: primaries %d is out of range [2, 12]", np);
+    if (ns < 2 || ns > 24)
+        return plm_fail(err, PLM_ERR_INVALID, "wing: secondaries %d is out of range [2, 24]", ns);
+    if (nt < 1 || nt > 6)
+        return plm_fail(err, PLM_ERR_INVALID, "wing: tertials %d is out of range [1, 6]", nt);
+    if (p->speculum < 0 || p->speculum > ns)
+        return plm_fail(err, PLM_ERR_INVALID, "wing: speculum %d is out of range [0, secondaries %d]", p->speculum,
+                        ns);
+    if (!(p->fold >= 0.0 && p->fold <= 1.0))
+        return plm_fail(err, PLM_ERR_INVALID, "wing: fold %g is out of range [0, 1]", p->fold);
+    if (!(p->sweep >= 0.0 && p->sweep <= plm_radians(45.0)))
+        return plm_fail(err, PLM_ERR_INVALID, "wing: sweep %g degrees is out of range [0, 45]", plm_degrees(p->sweep));
+    if (!(chord <= span))
+        return plm_fail(err, PLM_ERR_INVALID, "wing: chord %g is out of range (0, span %g]", chord, span);
+    return PLM_OK;
+}
+
+/* The parameters with their defaults filled in, checked. */
+static plm_result resolve(const plm_wing_params *p, int *np, int *ns, int *nt, double *span, double *chord,
+                          int *identity, plm_error *err)
+{
+    *np = p->primaries ? p->primaries : 10;
+    *ns = p->secondaries ? p->secondaries : 12;
+    *nt = p->tertials ? p->tertials : 3;
+    *span = p->span > 0.0 ? p->span : 1.0;
+    *chord = p->chord > 0.0 ? p->chord : 0.3 * *span;
+    plm_result rc = check_params(p, *np, *ns, *nt, *span, *chord, err);
+    return rc == PLM_OK ? check_frame(p->frame, identity, err) : rc;
+}
+
+/* A height field around every root, a flight feather's length each way. */
+static plm_result make_grid(const wing_rows *w, double reach, double cell, height_grid *g, plm_error *err)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < w->count; ++i) {
+        lo[0] = fmin(lo[0], w->f[i].root.x - reach);
+        lo[1] = fmin(lo[1], w->f[i].root.y - reach);
+        hi[0] = fmax(hi[0], w->f[i].root.x + reach);
+        hi[1] = fmax(hi[1], w->f[i].root.y + reach);
+    }
+    g->cell = cell;
+    g->x0 = lo[0];
+    g->y0 = lo[1];
+    g->nx = (int)ceil((hi[0] - lo[0]) / cell);
+    g->ny = (int)ceil((hi[1] - lo[1]) / cell);
+    g->z = malloc(sizeof(double) * (size_t)g->nx * (size_t)g->ny);
+    if (!g->z)
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a wing's height field");
+    for (size_t i = 0; i < (size_t)g->nx * (size_t)g->ny; ++i)
+        g->z[i] = -INFINITY;
+    return PLM_OK;
+}
+
 /* Roll of every wing feather about its rachis, raising its distal (leading)
  * vane: where neighbours overlap, the proximal one's raised vane lies over
  * the distal one's lowered vane, as on a real wing. */
 #define WING_ROLL_DEGREES 10.0
+
+/* What placing needs besides the feather: the prototypes' extents, the
+ * variation, and the two height fields, over the dorsal side and (mirrored)
+ * under the ventral side. */
+typedef struct wing_placer {
+    const plm_wing_params *p;
+    const plm_layout_extent *ext;
+    plm_layout_ranges var;
+    int variants;
+    double chord;
+    height_grid above, below;
+} wing_placer;
+
+/* Places feather f (the i-th in settling order) as instance `in` of dorsal order `order`. */
+static void place(wing_placer *pl, const wing_rows *w, int i, int order, plm_layout_instance *in)
+{
+    const wing_feather *f = &w->f[i];
+    plm_rng rng;
+    plm_rng_seed(&rng, plm_hash64(pl->p->seed, (uint64_t)i, 1), PLM_LAYOUT_STREAM_FEATHER);
+    int v = (int)(plm_rng_uniform(&rng) * pl->variants);
+    in->prototype = f->species * pl->variants + v;
+    in->row = f->row;
+    in->order = order;
+    plm_layout_draw_variation(&rng, &pl->var, in);
+    in->lift = 0.0;
+    const plm_layout_extent *e = &pl->ext[in->prototype];
+    double roll = plm_radians(WING_ROLL_DEGREES);
+    vec3 t = planar(f->direction + in->yaw), up = v3(0, 0, 1), x0 = v3_cross(t, up);
+    vec3 x = v3_sub(v3_scale(x0, cos(roll)), v3_scale(up, sin(roll)));
+    vec3 z = v3_add(v3_scale(x0, sin(roll)), v3_scale(up, cos(roll)));
+    /* Folding stacks the flight feathers, each a little above the ones
+     * before, so that they overlap in order; the coverts and the alula
+     * start from the wing plane and settle onto what lies beneath. */
+    double stack = i < w->flight ? pl->p->fold * i * 0.002 * pl->chord : 0.0;
+    /* An under-wing covert is placed as a dorsal one, with its feather frame
+     * mirrored, in the world mirrored through the wing plane (where it
+     * settles onto the flight feathers' undersides from below); mirrored
+     * back, its dorsal side faces down and its matrix is a rotation again. */
+    if (f->under)
+        x = v3_neg(x);
+    plm_layout_set_matrix(in, x, t, z, v3_madd(f->root, up, stack), in->scale * f->length / e->length);
+    if (f->under) {
+        settle(&pl->below, in, e, 0.004 * pl->chord);
+        raster_instance(&pl->below, in, e, 0);
+        *in = mirrored(in);
+        return;
+    }
+    if (i >= w->flight)
+        settle(&pl->above, in, e, 0.004 * pl->chord);
+    raster_instance(&pl->above, in, e, 0);
+    plm_layout_instance below = mirrored(in);
+    raster_instance(&pl->below, &below, e, 0);
+}
 
 plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *rows, plm_layout *out,
                            plm_error *err)
@@ -265,93 +496,120 @@ plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *r
     memset(out, 0, sizeof *out);
     if (!rows || !rows[PLM_WING_PRIMARY] || !rows[PLM_WING_SECONDARY])
         return plm_fail(err, PLM_ERR_INVALID, "wing: the primary and secondary rows need a species");
-    int np = p->primaries ? p->primaries : 10, ns = p->secondaries ? p->secondaries : 12,
-        nt = p->tertials ? p->tertials : 3, variants = p->variants > 0 ? p->variants : 3;
-    double span = p->span > 0.0 ? p->span : 1.0, chord = p->chord > 0.0 ? p->chord : 0.3 * span;
-    if (np < 2 || np > 12)
-        return plm_fail(err, PLM_ERR_INVALID, "wing: primaries %d is out of range [2, 12]", np);
-    if (ns < 2 || ns > 24)
-        return plm_fail(err, PLM_ERR_INVALID, "wing: secondaries %d is out of range [2, 24]", ns);
-    if (nt < 1 || nt > 6)
-        return plm_fail(err, PLM_ERR_INVALID, "wing: tertials %d is out of range [1, 6]", nt);
-    if (!(p->fold >= 0.0 && p->fold <= 1.0))
-        return plm_fail(err, PLM_ERR_INVALID, "wing: fold %g is out of range [0, 1]", p->fold);
-    if (!(p->sweep >= 0.0 && p->sweep <= plm_radians(45.0)))
-        return plm_fail(err, PLM_ERR_INVALID, "wing: sweep %g degrees is out of range [0, 45]", plm_degrees(p->sweep));
-    if (!(chord <= span))
-        return plm_fail(err, PLM_ERR_INVALID, "wing: chord %g is out of range (0, span %g]", chord, span);
+    int np, ns, nt, identity;
+    double span, chord;
+    plm_result rc = resolve(p, &np, &ns, &nt, &span, &chord, &identity, err);
+    if (rc != PLM_OK)
+        return rc;
     const plm_species *list[PLM_WING_ROWS];
     for (int r = 0; r < PLM_WING_ROWS; ++r)
-        list[r] = rows[r] ? rows[r] : rows[PLM_WING_SECONDARY];
+        list[r] = rows[r] ? rows[r] : list[plm_wing_row_fallback(r)];
 
     double primary = 1.4 * chord;
     wing_skeleton sk = skeleton_of(p, span, primary);
     wing_rows w = {0};
-    w.capacity = np + 2 * ns + nt + (np + ns) + 4 * (ns + nt) + 3;
+    /* Flight feathers, coverts above and below their bases, the alula, the median coverts; the bands of
+     * 2 (ns + nt) coverts above (lesser, marginal) and below (three), and the under-wing median row. */
+    int band = WING_BAND_COUNT(ns, nt);
+    w.capacity = 3 * (np + ns + nt) + 3 + 2 * (ns + nt) + (WING_LESSER_ROWS + WING_MARGINAL_ROWS + 3) * band + ns + nt;
     w.f = malloc(sizeof *w.f * (size_t)w.capacity);
     out->instances = calloc((size_t)w.capacity, sizeof *out->instances);
     plm_layout_extent *ext = NULL;
-    height_grid g = {0};
-    plm_result rc = w.f && out->instances ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a wing");
+    wing_placer pl = {.p = p, .variants = p->variants > 0 ? p->variants : 3, .chord = chord};
+    rc = w.f && out->instances ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a wing");
     if (rc == PLM_OK)
-        rc = plm_layout_make_prototypes(list, PLM_WING_ROWS, variants, p->seed, out, &ext, err);
+        rc = plm_layout_make_prototypes(list, PLM_WING_ROWS, pl.variants, p->seed, out, &ext, err);
+    int dorsal = 0;
     if (rc == PLM_OK) {
-        build_wing(p, &sk, chord, primary, np, ns, nt, &w);
-        /* The height field covers every root with a flight feather's length around it. */
-        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-        for (int i = 0; i < w.count; ++i) {
-            lo[0] = fmin(lo[0], w.f[i].root.x - primary);
-            lo[1] = fmin(lo[1], w.f[i].root.y - primary);
-            hi[0] = fmax(hi[0], w.f[i].root.x + primary);
-            hi[1] = fmax(hi[1], w.f[i].root.y + primary);
-        }
-        g.cell = chord / 80.0;
-        g.x0 = lo[0];
-        g.y0 = lo[1];
-        g.nx = (int)ceil((hi[0] - lo[0]) / g.cell);
-        g.ny = (int)ceil((hi[1] - lo[1]) / g.cell);
-        g.z = malloc(sizeof(double) * (size_t)g.nx * (size_t)g.ny);
-        if (!g.z)
-            rc = plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a wing's height field");
-        for (size_t i = 0; g.z && i < (size_t)g.nx * (size_t)g.ny; ++i)
-            g.z[i] = -INFINITY;
+        build_dorsal(p, &sk, chord, primary, np, ns, nt, &w);
+        dorsal = w.count;
+        build_ventral(p, &sk, chord, ns, nt, &w);
+        rc = make_grid(&w, primary, chord / 80.0, &pl.above, err);
+        if (rc == PLM_OK)
+            rc = make_grid(&w, primary, chord / 80.0, &pl.below, err);
     }
-    plm_layout_ranges var = plm_layout_ranges_of(&p->variation);
+    pl.ext = ext;
+    pl.var = plm_layout_ranges_of(&p->variation);
     /* The rows' sizes and directions are the wing's shape: variation stays small. */
-    var.scale *= 0.3;
-    var.yaw *= 0.3;
-    double roll = plm_radians(WING_ROLL_DEGREES);
+    pl.var.scale *= 0.3;
+    pl.var.yaw *= 0.3;
+    /* Dorsal order: the under-wing coverts first, the last to settle (the most ventral) lowest. */
+    int ventral = w.count - dorsal;
     for (int i = 0; rc == PLM_OK && i < w.count; ++i) {
-        const wing_feather *f = &w.f[i];
-        plm_layout_instance *in = &out->instances[i];
-        plm_rng rng;
-        plm_rng_seed(&rng, plm_hash64(p->seed, (uint64_t)i, 1), PLM_LAYOUT_STREAM_FEATHER);
-        int v = (int)(plm_rng_uniform(&rng) * variants);
-        in->prototype = f->row * variants + v;
-        in->row = f->row;
-        in->order = i;
-        plm_layout_draw_variation(&rng, &var, in);
-        in->lift = 0.0;
-        const plm_layout_extent *e = &ext[in->prototype];
-        vec3 t = planar(f->direction + in->yaw), up = v3(0, 0, 1), x0 = v3_cross(t, up);
-        vec3 x = v3_sub(v3_scale(x0, cos(roll)), v3_scale(up, sin(roll)));
-        vec3 z = v3_add(v3_scale(x0, sin(roll)), v3_scale(up, cos(roll)));
-        /* Folding stacks the flight feathers, each a little above the ones
-         * before, so that they overlap in order; the coverts and the alula
-         * start from the wing plane and settle onto what lies beneath. */
-        double stack = i < w.flight ? p->fold * i * 0.002 * chord : 0.0;
-        vec3 root = v3_madd(f->root, up, stack);
-        plm_layout_set_matrix(in, x, t, z, root, in->scale * f->length / e->length);
-        if (i >= w.flight)
-            settle(&g, in, e, 0.004 * chord);
-        raster_instance(&g, in, e, 0);
+        int order = i < dorsal ? ventral + i : w.count - 1 - i;
+        place(&pl, &w, i, order, &out->instances[order]);
+        if (!identity)
+            apply_frame(p->frame, &out->instances[order]);
     }
     if (rc == PLM_OK)
         out->instance_count = w.count;
     plm_layout_extents_free(ext, out->prototype_count);
-    free(g.z);
+    free(pl.above.z);
+    free(pl.below.z);
     free(w.f);
     if (rc != PLM_OK)
         plm_layout_free(out);
     return rc;
+}
+
+/* The skin's front edge ahead of humerus and forearm, in chords: behind the
+ * front two rows of marginal coverts' roots (0.30 and 0.34), which cover it
+ * (at 0.32 it showed between the front row's roots). The strip ends a tenth
+ * of the way along the hand, narrowing to WING_SKIN_HAND: further out the
+ * primaries' and their coverts' bases lie on the hand with no skin between
+ * (a strip along the whole hand showed along its leading edge). */
+#define WING_SKIN_ARM 0.28
+#define WING_SKIN_HAND 0.015
+/* Along the inner humerus, beyond the marginal coverts' reach: under the front lesser row (0.26). */
+#define WING_SKIN_HUMERUS 0.21
+#define WING_SKIN_END 2.1
+
+/* A point of the skin's strip: along the arm (0 shoulder, 1 elbow, 2 wrist,
+ * then along the hand), at its back edge (the bones) or its front edge. */
+static vec3 skin_point(const wing_skeleton *sk, double along, int front, double chord)
+{
+    int b = along >= 2.0 ? 2 : (int)along;
+    double t = along - b, end = WING_SKIN_END - 2.0;
+    double ahead = b == 1   ? WING_SKIN_ARM
+                   : b == 2 ? lerp(WING_SKIN_ARM, WING_SKIN_HAND, fmin(t / end, 1.0))
+                            : lerp(WING_SKIN_HUMERUS, WING_SKIN_ARM, plm_clamp((t - 0.6) / 0.4, 0.0, 1.0));
+    return on_bone(sk, b, t, front ? ahead * chord : 0.0);
+}
+
+plm_result plm_wing_skin(const plm_wing_params *p, plm_mesh *out, plm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    int np, ns, nt, identity;
+    double span, chord;
+    plm_result rc = resolve(p, &np, &ns, &nt, &span, &chord, &identity, err);
+    if (rc != PLM_OK)
+        return rc;
+    wing_skeleton sk = skeleton_of(p, span, 1.4 * chord);
+    enum { STEPS = 16 }; /* per bone */
+    int n = 3 * STEPS + 1;
+    out->vertex_count = 2 * n;
+    out->triangle_count = 2 * (n - 1);
+    out->positions = malloc(sizeof(float) * 3 * (size_t)out->vertex_count);
+    out->normals = malloc(sizeof(float) * 3 * (size_t)out->vertex_count);
+    out->indices = malloc(sizeof(uint32_t) * 3 * (size_t)out->triangle_count);
+    if (!out->positions || !out->normals || !out->indices) {
+        plm_mesh_free(out);
+        return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a wing's skin");
+    }
+    const double (*f)[4] = p->frame;
+    for (int v = 0; v < out->vertex_count; ++v) {
+        vec3 q = skin_point(&sk, WING_SKIN_END * (v / 2) / (n - 1), v & 1, chord);
+        double x[3] = {q.x, q.y, q.z}, nz[3] = {0, 0, 1};
+        for (int r = 0; r < 3; ++r) {
+            out->positions[3 * v + r] =
+                (float)(identity ? x[r] : f[r][0] * x[0] + f[r][1] * x[1] + f[r][2] * x[2] + f[r][3]);
+            out->normals[3 * v + r] = (float)(identity ? nz[r] : f[r][2]);
+        }
+    }
+    for (int k = 0; k + 1 < n; ++k) {
+        uint32_t a = (uint32_t)(2 * k), *t = out->indices + 6 * k;
+        t[0] = a, t[1] = a + 2, t[2] = a + 1;
+        t[3] = a + 1, t[4] = a + 2, t[5] = a + 3;
+    }
+    return PLM_OK;
 }

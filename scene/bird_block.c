@@ -207,8 +207,10 @@ static plm_result lay_wings(const plm_json_reader *r, const char *path, const pl
     char wpath[300];
     snprintf(wpath, sizeof wpath, "%s (%s: wings)", path, bird->name);
     const char *files[PLM_WING_ROWS];
-    for (int k = 0; k < PLM_WING_ROWS; ++k)
-        files[k] = w->rows[k][0] ? w->rows[k] : w->rows[PLM_WING_SECONDARY];
+    for (int k = 0; k < PLM_WING_ROWS; ++k) { /* a row left out takes its fallback's (always an earlier row) */
+        int fallback = plm_wing_row_fallback(k);
+        files[k] = w->rows[k][0] ? w->rows[k] : fallback >= 0 ? files[fallback] : w->rows[PLM_WING_SECONDARY];
+    }
     plm_species sp[PLM_WING_ROWS];
     plm_result rc = load_species(r, wpath, files, PLM_WING_ROWS, sp);
     if (rc != PLM_OK)

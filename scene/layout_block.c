@@ -81,6 +81,8 @@ static const plm_param wing_params[] = {
     {"primaries", PLM_PARAM_INT, offsetof(plm_wing_params, primaries), 0, 12, "", "0 = 10", 0},
     {"secondaries", PLM_PARAM_INT, offsetof(plm_wing_params, secondaries), 0, 24, "", "0 = 12", 0},
     {"tertials", PLM_PARAM_INT, offsetof(plm_wing_params, tertials), 0, 6, "", "0 = 3", 0},
+    {"speculum", PLM_PARAM_INT, offsetof(plm_wing_params, speculum), 0, 24, "",
+     "outer secondaries taking the speculum row's species, at most secondaries", 0},
     {"variants", PLM_PARAM_INT, offsetof(plm_wing_params, variants), 0, 64, "",
      "distinct feathers generated per row; 0 = 3", 0},
     {"seed", PLM_PARAM_SEED, offsetof(plm_wing_params, seed), 0, 2147483647, "", "variation", 0},
@@ -132,7 +134,7 @@ static plm_result read_species(const plm_json_reader *r, const cJSON *obj, const
 }
 
 /* "rows": {"primary": file, "secondary": file, ...}: one species per wing row,
- * indexed by plm_wing_row; rows left out take the secondary's. */
+ * indexed by plm_wing_row; rows left out take their fallback's. */
 static plm_result read_rows(const plm_json_reader *r, const cJSON *obj, const char *path, species_list *out)
 {
     const cJSON *rows = cJSON_GetObjectItemCaseSensitive(obj, "rows");
@@ -150,7 +152,7 @@ static plm_result read_rows(const plm_json_reader *r, const cJSON *obj, const ch
     }
     for (int row = 0; rc == PLM_OK && row < PLM_WING_ROWS; ++row) {
         if (!out->file[row][0])
-            snprintf(out->file[row], PLM_PATH_MAX, "%s", out->file[PLM_WING_SECONDARY]);
+            snprintf(out->file[row], PLM_PATH_MAX, "%s", out->file[plm_wing_row_fallback(row)]);
         if ((rc = plm_species_load(out->file[row], &out->species[row], r->err)) != PLM_OK)
             plm_error_prefix(r->err, "%s: %s.%s: ", r->file, rpath, plm_wing_row_names[row]);
         else
@@ -248,9 +250,9 @@ static plm_result read_surface(const plm_json_reader *r, const cJSON *obj, const
     return PLM_OK;
 }
 
-/* The layout's surface (pelt) or core (ball) as a scene object, when a material is named for it. */
+/* The layout's surface (pelt), core (ball) or skin (wing) as a scene object, when a material is named for it. */
 static plm_result add_base(const plm_json_reader *r, const cJSON *obj, const char *path, const plm_surface *s,
-                           int mesh_index, const plm_xform *xform, plm_scene *scene)
+                           const plm_wing_params *wing, int mesh_index, const plm_xform *xform, plm_scene *scene)
 {
     const char *name = NULL;
     plm_result rc = plm_json_string(r, obj, path, "surface_material", NULL, &name);
@@ -263,8 +265,9 @@ static plm_result add_base(const plm_json_reader *r, const cJSON *obj, const cha
         plm_mesh m = {0};
         char mesh_name[PLM_NAME_MAX];
         snprintf(mesh_name, sizeof mesh_name, "%.100s.surface", path);
-        rc = s->kind == PLM_SURFACE_PLANE ? plm_shape_quad(s->width, s->height, 0.0, 1, &m, r->err)
-                                          : plm_shape_sphere(s->radius, 64, &m, r->err);
+        rc = wing                            ? plm_wing_skin(wing, &m, r->err)
+             : s->kind == PLM_SURFACE_PLANE ? plm_shape_quad(s->width, s->height, 0.0, 1, &m, r->err)
+                                            : plm_shape_sphere(s->radius, 64, &m, r->err);
         if (rc != PLM_OK)
             return rc;
         if ((mesh_index = plm_scene_add_mesh(scene, mesh_name, &m)) < 0) {
@@ -284,8 +287,13 @@ plm_result plm_layout_block_place(const plm_json_reader *r, const char *path, co
     if (!parts && layout->prototype_count)
         return plm_fail(r->err, PLM_ERR_NO_MEMORY, "out of memory");
     plm_result rc = PLM_OK;
+    /* Only the prototypes some instance shows (a wing's speculum row may have none). */
+    for (int i = 0; parts && i < layout->instance_count; ++i)
+        parts[layout->instances[i].prototype].count = 1;
     for (int k = 0; rc == PLM_OK && k < layout->prototype_count; ++k) {
         const plm_layout_prototype *pr = &layout->prototypes[k];
+        if (!parts[k].count)
+            continue;
         char name[PLM_NAME_MAX];
         snprintf(name, sizeof name, "layout%d.%d", ordinal, k);
         plm_feather_request q = {species_files[pr->species], level, texture_size, k + 1,
@@ -315,7 +323,8 @@ plm_result plm_layout_block_read(const plm_json_reader *r, const cJSON *obj, con
                                  plm_scene *scene, plm_feather_cache *cache, int ordinal)
 {
     static const char *const types[] = {"pelt", "ball", "wing", NULL};
-    static const char *const wing_extra[] = {"type", "rows", "variation", "level", "texture_size", NULL};
+    static const char *const wing_extra[] = {"type", "rows", "surface_material", "variation", "level",
+                                             "texture_size", NULL};
     static const char *const pelt_extra[] = {"type", "species", "surface", "surface_material", "variation",
                                              "level", "texture_size", NULL};
     static const char *const ball_extra[] = {"type", "species", "surface_material", "variation", "level",
@@ -370,8 +379,9 @@ plm_result plm_layout_block_read(const plm_json_reader *r, const cJSON *obj, con
     if (rc == PLM_OK)
         rc = plm_layout_block_place(r, path, &layout, files, level, texture_size, seed, ordinal, xform, scene, cache);
     plm_surface core = {PLM_SURFACE_SPHERE, 0.0, 0.0, ball.radius > 0.0 ? ball.radius : 1.0, NULL};
-    if (rc == PLM_OK && type != 2)
-        rc = add_base(r, obj, path, type == 0 ? &pelt.surface : &core, mesh_index, xform, scene);
+    if (rc == PLM_OK)
+        rc = add_base(r, obj, path, type == 0 ? &pelt.surface : &core, type == 2 ? &wing : NULL, mesh_index, xform,
+                      scene);
     plm_layout_free(&layout);
     for (int i = 0; i < sl->count; ++i)
         plm_species_free(&sl->species[i]);

@@ -29,7 +29,8 @@ else
 fi
 expect_output "pelt on a sphere" "^49," pelt --surface sphere --radius 0.5
 expect_output "feather ball (496)" "^495," "$PLUMAGE" probe layout --kind ball --species "$SPECIES/covert_parrot.json"
-expect_output "wing" "^0,0,0,0,0,0," "$PLUMAGE" probe layout --kind wing --row "primary=$SPECIES/remex_pigeon.json" \
+# A wing lists its under-wing coverts (row 9) first: they lie lowest.
+expect_output "wing" "^0,[0-9]*,9,[0-9],9,0," "$PLUMAGE" probe layout --kind wing --row "primary=$SPECIES/remex_pigeon.json" \
     --row "secondary=$SPECIES/remex_pigeon.json" --fold 0.5
 
 expect_stderr "no species" "species" "$PLUMAGE" probe layout --count 5
