@@ -1,7 +1,8 @@
 /* The species contact sheet: each species generated as a scene generates it
  * (scene/feathers.h: the same feather, colours and rachis as in a pelt),
  * rendered from the dorsal side (front) and the ventral side (back) under a
- * dim grey sky and a raking side light, and laid out in a labelled grid. */
+ * bluish sky and a warm low sun from the side, as outdoors, and laid out in a
+ * labelled grid. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "cli/species_sheet.h"
 
@@ -24,8 +25,10 @@ enum { GAP = 8, VIEW_GAP = 2, LABEL_H = 24, FOOT_H = 16, FONT = 15, FONT_SMALL =
 
 static const float sheet_grey = 0.02f;
 static const float ink[3] = {0.92f, 0.92f, 0.92f}, faint[3] = {0.75f, 0.75f, 0.75f};
-#define SKY 0.2        /* the sky's radiance: the views' backdrop, a mid grey once tone-mapped */
-#define SUN 3.0        /* the side light's irradiance */
+/* The sky's radiance (the views' backdrop, a mid blue-grey once tone-mapped)
+ * and the sun's irradiance: their ratio and tints those of a clear day's
+ * shade and sun, a pale blue sky and a sun a little warmer than white. */
+static const double sky[3] = {0.17, 0.2, 0.25}, sun[3] = {3.2, 3.05, 2.8};
 #define FOV 20.0       /* degrees: a long lens, so the feather is seen almost without perspective */
 #define MARGIN 1.08    /* room around the feather in its view */
 
@@ -39,12 +42,12 @@ static cJSON *species_scene(const char *species, const plm_species_sheet_options
 {
     char json[8192];
     int n = snprintf(json, sizeof json,
-                     "{\"film\": {\"width\": %d, \"height\": %d, \"spp\": %d},"
+                     "{\"film\": {\"width\": %d, \"height\": %d, \"spp\": %d, \"filter_radius\": 1},"
                      " \"lights\": [{\"type\": \"environment\", \"radiance\": [%g, %g, %g]},"
                      "              {\"type\": \"distant\", \"direction\": [0, 0, 1], \"irradiance\": [%g, %g, %g]}],"
                      " \"feathers\": {\"f\": {\"species\": \"\", \"level\": %d, \"texture_size\": %d}},"
                      " \"objects\": [{\"feather\": \"f\"}]}",
-                     w, h, opt->spp, SKY, SKY, SKY, SUN, SUN, SUN, opt->level, opt->texture_size);
+                     w, h, opt->spp, sky[0], sky[1], sky[2], sun[0], sun[1], sun[2], opt->level, opt->texture_size);
     cJSON *root = n < (int)sizeof json ? cJSON_Parse(json) : NULL;
     cJSON *f = root ? cJSON_GetObjectItem(cJSON_GetObjectItem(root, "feathers"), "f") : NULL;
     if (f)

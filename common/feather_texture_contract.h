@@ -27,10 +27,12 @@
  * Texel (0, 0) is the top-left corner and sits at uv = (0, 1): u runs left to
  * right, v from the bottom row (the feather's base, v = 0) to the top row.
  *
- * Pigment image, 3 float channels in [0, 1], 0 outside the vane:
+ * Pigment image, 4 float channels in [0, 1], 0 outside the vane:
  *   PLM_PIGMENT_BANDS  1 inside a dark bar (bars follow the barbs)
  *   PLM_PIGMENT_TIP    1 at the tip, falling to 0 over the species' tip length
  *   PLM_PIGMENT_BARB   a value per barb, at most the species' barb jitter
+ *   PLM_PIGMENT_BASE   1 over the downy base, falling to 0 over the species' base length
+ *                      (images with 3 channels have none: read as 0)
  * Same texel layout as the feather texture. */
 #ifndef PLUMAGE_COMMON_FEATHER_TEXTURE_CONTRACT_H
 #define PLUMAGE_COMMON_FEATHER_TEXTURE_CONTRACT_H
@@ -44,10 +46,11 @@
 #define PLM_FTEX_BARB 3 /* optional: PLM_FTEX_CHANNELS_WITH_BARB channels */
 #define PLM_FTEX_CHANNELS_WITH_BARB 4
 
-#define PLM_PIGMENT_CHANNELS 3
+#define PLM_PIGMENT_CHANNELS 4
 #define PLM_PIGMENT_BANDS 0
 #define PLM_PIGMENT_TIP 1
 #define PLM_PIGMENT_BARB 2
+#define PLM_PIGMENT_BASE 3
 
 typedef enum plm_region {
     PLM_REGION_BACKGROUND = 0, /* not part of the feather: rays pass as if nothing were there */

@@ -32,11 +32,11 @@ typedef struct type_row {
 
 /* Left is the leading (outer, narrow) vane of flight feathers. */
 static const type_row rows[PLM_TYPE_COUNT] = {
-    [PLM_TYPE_CONTOUR] = {60, 4, 0.3, 1.0, 0.15, 1.0, 18, 0, 0, 15, 5,
+    [PLM_TYPE_CONTOUR] = {60, 4, 0.3, 1.0, 0.15, 1.0, 18, 5, 0, 15, 5,
                           {{{0, 5}, {0.25, 9}, {0.6, 11}, {0.85, 10.5}, {1, 8.5}},
                            {{0, 5}, {0.25, 9}, {0.6, 11}, {0.85, 10.5}, {1, 8.5}}},
                           {{0}, {0}}, PLM_TIP_ROUNDED, 0.35, {55, 55}, {40, 40}, 8, 30, 3.5, 5, 2.0},
-    [PLM_TYPE_COVERT] = {45, 3, 0.15, 0.8, 0.15, 1.0, 14, 0, 0, 12, 5,
+    [PLM_TYPE_COVERT] = {45, 3, 0.15, 0.8, 0.15, 1.0, 14, 3, 0, 12, 5,
                          {{{0, 5}, {0.2, 8}, {0.55, 10}, {0.85, 10}, {1, 9}},
                           {{0, 5}, {0.2, 8}, {0.55, 10}, {0.85, 10}, {1, 9}}},
                          {{0}, {0}}, PLM_TIP_TRUNCATE, 0.3, {55, 55}, {45, 45}, 8, 30, 3.5, 5, 2.0},
@@ -136,7 +136,9 @@ void plm_species_default_of_type(plm_species *s, plm_feather_type type)
     fluff_default(sh, type);
     s->pigment.band_width = 0.5;
     s->pigment.tip_length = 0.15;
+    s->pigment.base_length = 0.15;
     s->pigment.barb_jitter = 0.3;
+    s->pigment.barb_clump = 4.0;
 }
 
 void plm_species_default(plm_species *s)

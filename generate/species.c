@@ -134,11 +134,15 @@ static const plm_param pigment_params[] = {
      "dark part of each bar period", 0},
     {"tip_length", PLM_PARAM_NUMBER, offsetof(plm_pigment, tip_length), 0.0, 1.0, "fraction of the vane",
      "length of the tip colour ramp", 0},
+    {"base_length", PLM_PARAM_NUMBER, offsetof(plm_pigment, base_length), 0.0, 1.0, "fraction of the vane",
+     "past the downy base, its colour (the optics' base_tint) fades over this much of the vane", 0},
     {"barb_jitter", PLM_PARAM_NUMBER, offsetof(plm_pigment, barb_jitter), 0.0, 1.0, "",
      "amplitude of the per-barb variation", 0},
+    {"barb_clump", PLM_PARAM_NUMBER, offsetof(plm_pigment, barb_clump), 1.0, 100.0, "barbs",
+     "half of the variation is shared by about this many neighbouring barbs, half is each barb's own", 0},
     {"seed", PLM_PARAM_SEED, offsetof(plm_pigment, seed), 0.0, 2147483647.0, "", "per-barb values", 0},
 };
-const plm_param_block plm_pigment_param_block = {"pigment", "pigment variation: bands, tip, per-barb", pigment_params,
+const plm_param_block plm_pigment_param_block = {"pigment", "pigment variation: bands, tip, downy base, per-barb", pigment_params,
                                                  PLM_PARAM_COUNT(pigment_params)};
 
 #define TRY(expr)                                                                                            \

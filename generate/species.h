@@ -115,7 +115,9 @@ typedef struct plm_pigment {
     int band_count;      /* dark bars across the vane, following the barbs (0 = none) */
     double band_width;   /* fraction of the band period that is dark */
     double tip_length;   /* fraction of the vaned length coloured as the tip */
+    double base_length;  /* fraction of the vaned length past the downy base over which its colour fades */
     double barb_jitter;  /* 0..1: amplitude of per-barb variation */
+    double barb_clump;   /* barbs: how many neighbours share half of that variation (1: each its own) */
     uint64_t seed;
 } plm_pigment;
 

@@ -140,7 +140,9 @@ rgb plm_material_pigment(const plm_material *m, vec2 uv)
         return rgb_gray(1.0);
     const float *px = p->pixels + (size_t)p->channels * (size_t)plm_texel_nearest(p->width, p->height, uv);
     double band = px[PLM_PIGMENT_BANDS], tip = px[PLM_PIGMENT_TIP], barb = px[PLM_PIGMENT_BARB];
+    double base = p->channels > PLM_PIGMENT_BASE ? px[PLM_PIGMENT_BASE] : 0.0;
     rgb f = rgb_mul(mix_from_white(m->band_tint, band), mix_from_white(m->tip_tint, tip));
+    f = rgb_mul(f, mix_from_white(m->base_tint, base));
     return rgb_scale(f, plm_clamp(1.0 - barb, 0.0, 1.0));
 }
 

@@ -1,6 +1,7 @@
 /* Film, tiles, threads, passes, progress and output. */
 #include "render/render.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -23,6 +24,7 @@ typedef struct job {
     double *sum;               /* width * height * 3 running sums */
     int spp, max_depth;
     uint64_t seed;
+    double filter_radius; /* pixels; 0: box */
     int tiles_x, tile_count;
     int pass_count;
     int pass_start[MAX_PASSES + 1];        /* first sample index of each pass; pass_start[pass_count] = spp */
@@ -62,6 +64,20 @@ static void plan_passes(job *j)
     j->pass_count = n;
 }
 
+/* Where within (or around) its pixel a sample lands, from a stratified
+ * uniform u: the pixel's square (a box filter), or a tent of the given
+ * radius about its centre by inverting the tent's distribution, so samples
+ * stay stratified and each keeps weight 1 (filter importance sampling). A box
+ * lets through the harmonics of detail a few pixels apart, such as barbs,
+ * which fold back as moire; a tent of radius 1 takes them down 5-10 times. */
+static double filter_offset(double u, double radius)
+{
+    if (radius <= 0.0)
+        return u;
+    double x = u < 0.5 ? sqrt(2.0 * u) - 1.0 : 1.0 - sqrt(2.0 * (1.0 - u));
+    return 0.5 + radius * x;
+}
+
 static void render_tile(job *j, int tile, int s0, int s1)
 {
     const plm_world *w = j->world;
@@ -82,7 +98,8 @@ static void render_tile(job *j, int tile, int s0, int s1)
                 vec2 film = plm_sampler_2d(&sampler, PLM_SAMPLE_PIXEL);
                 vec2 lens = w->camera.lens_radius > 0.0 ? plm_sampler_2d(&sampler, PLM_SAMPLE_LENS) : v2(0.0, 0.0);
                 vec3 o, d;
-                plm_camera_ray(&w->camera, x + film.x, y + film.y, lens.x, lens.y, &o, &d);
+                plm_camera_ray(&w->camera, x + filter_offset(film.x, j->filter_radius),
+                               y + filter_offset(film.y, j->filter_radius), lens.x, lens.y, &o, &d);
                 if (j->opt->trace_only) {
                     rays += plm_path_trace_only(w, o, d, j->max_depth, &rng);
                     continue;
@@ -178,6 +195,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     j->spp = opt->spp > 0 ? opt->spp : fd->spp;
     j->max_depth = opt->max_depth > 0 ? opt->max_depth : (opt->max_depth < 0 ? 0 : fd->max_depth);
     j->seed = opt->seed > 0 ? (uint64_t)opt->seed : (opt->seed < 0 ? 0 : fd->seed);
+    j->filter_radius = fd->filter_radius;
     j->tiles_x = (film->width + TILE - 1) / TILE;
     j->tile_count = j->tiles_x * ((film->height + TILE - 1) / TILE);
     plan_passes(j);

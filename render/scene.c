@@ -37,6 +37,9 @@ static const plm_param film_params[] = {
      "PNG only: light of a blackbody this hot shows as white; 6504 changes nothing, lower is bluer", 0},
     {"far_field", PLM_PARAM_BOOL, offsetof(plm_film_desc, far_field), 0, 1, "",
      "shade feathers with the far-field model only, even where a pixel resolves barbs (docs/nearfield.md)", 0},
+    {"filter_radius", PLM_PARAM_NUMBER, offsetof(plm_film_desc, filter_radius), 0.0, 4.0, "pixels",
+     "0: a pixel averages its own square (a box); > 0: a tent reaching this far, which keeps fine regular "
+     "detail such as barbs from beating into moire (1 is a good choice; docs/rendering.md)", 0},
     {"fiber_table_mib", PLM_PARAM_INT, offsetof(plm_film_desc, fiber_table_mib), PLM_FIBER_TABLE_MIB_MIN,
      PLM_FIBER_TABLE_MIB_MAX, "MiB",
      "memory of each fiber table (tabulated BCSDF): more is more accurate for elliptical fibers (docs/fiber.md)", 0},
@@ -55,6 +58,8 @@ static const plm_param feather_material_params[] = {
      "colour factor inside the species' pigment bands", 0},
     {"tip_tint", PLM_PARAM_RGB, offsetof(plm_material, tip_tint), 0.0, 1.0, "",
      "colour factor at the tip, fading over the species' pigment tip_length", 0},
+    {"base_tint", PLM_PARAM_RGB, offsetof(plm_material, base_tint), 0.0, 1.0, "",
+     "colour factor over the downy base, fading over the species' pigment base_length (a grey base)", 0},
 };
 const plm_param_block plm_feather_material_param_block = {
     "feather", "a feather material (a species' optics block); also barb, barbule (fiber) and masking blocks",
@@ -65,6 +70,7 @@ void plm_feather_material_default(plm_material *m)
     m->reflectance = rgb_make(0.8, 0.75, 0.65);
     m->band_tint = rgb_make(0.3, 0.28, 0.26);
     m->tip_tint = rgb_gray(1.0);
+    m->base_tint = rgb_gray(1.0);
 }
 
 void plm_scene_init(plm_scene *scene)

@@ -36,6 +36,7 @@ typedef struct plm_film_desc {
     int view;            /* PNG only: a plm_view (render/film.h) */
     double white_balance; /* PNG only: kelvin shown as white (render/film.h) */
     int far_field;       /* 1: feathers only in the far field, even where barbs are resolved (docs/nearfield.md) */
+    double filter_radius; /* pixels: 0 each pixel averages its own area (a box), > 0 a tent this wide each way */
     int fiber_table_mib; /* memory of each tabulated fiber BCSDF's table (docs/fiber.md) */
     char exr[PLM_PATH_MAX]; /* "" = not written */
     char png[PLM_PATH_MAX];
@@ -117,9 +118,9 @@ typedef struct plm_material {
     /* Feather only: the generator's pigment image (channels in
      * common/feather_texture_contract.h; no pixels = none) and the colours
      * it mixes in: a texel's scattered colour is multiplied by
-     * mix(1, band_tint, bands) * mix(1, tip_tint, tip) * (1 - barb). */
+     * mix(1, band_tint, bands) * mix(1, tip_tint, tip) * mix(1, base_tint, base) * (1 - barb). */
     plm_image pigment;
-    rgb band_tint, tip_tint;
+    rgb band_tint, tip_tint, base_tint;
 } plm_material;
 
 /* A triangle mesh, or curves (then mesh is empty): a feather's fluff. */

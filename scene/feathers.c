@@ -214,7 +214,8 @@ static plm_result generate(const plm_feather_cache *cache, plm_scene *scene, con
     memset(&f, 0, sizeof f);
     /* The pigment image only when the species has pigment variation to show. */
     const plm_pigment *pg = &species.pigment;
-    int has_pigment = pg->band_count > 0 || pg->tip_length > 0.0 || pg->barb_jitter > 0.0;
+    int has_pigment = pg->band_count > 0 || pg->tip_length > 0.0 || pg->barb_jitter > 0.0 || pg->base_length > 0.0 ||
+                      species.shape.plumulaceous > 0.0;
     plm_feather_options options = {q->level, q->texture_size, q->texture_size, 0, 0, !has_pigment};
     rc = plm_feather_generate(&species, &options, &f, err);
     if (rc == PLM_OK && cache->asset_dir)

@@ -6,13 +6,15 @@
 set -u
 source "$(dirname "$0")/lib_cli.sh"
 SPECIES=${PLUMAGE_SOURCE_DIR:-$(dirname "$0")/..}/presets/species/covert_parrot.json
-ALBEDO="0.16 0.22 0.06" # the species' optics.rachis_reflectance
+ALBEDO="0.42 0.46 0.26" # the species' optics.rachis_reflectance
 
 expect_ok "generate" "$PLUMAGE" generate --species "$SPECIES" -o feather --level 2 --texture-size 128
 # The rachis from above at mid-length, 0.07 mm a pixel (the shaft is about 0.5 mm wide there), under a
 # white sky alone and with one scattering event: each pixel on the shaft is its albedo times the part
-# of the sky it sees.
-VIEW=(--set 'camera={"position": [0, 20, 60], "look_at": [0, 20, 0], "fov": 1}'
+# of the sky it sees. The shaft bends 3 degrees toward the right vane and 14 ventrally over its 42 mm
+# (a helix turning at w = 14.3 degrees / 42 mm), so at 20 mm it lies (3 / 14.3) (1 - cos(w 20)) / w =
+# 0.25 mm to the right of the base's axis.
+VIEW=(--set 'camera={"position": [0.25, 20, 60], "look_at": [0.25, 20, 0], "fov": 1}'
       --set 'film={"width": 16, "height": 16, "spp": 64, "max_depth": 1}'
       --set 'lights=[{"type": "environment", "radiance": [1, 1, 1]}]')
 echo "{\"feathers\": {\"f\": {\"species\": \"$SPECIES\", \"level\": 2, \"texture_size\": 128}},

@@ -137,8 +137,10 @@ static void texture_lookups_keep_regions_and_angles(void **state)
 }
 
 /* The pigment image multiplies the colour a vane texel scatters:
- * mix(1, band_tint, bands) * mix(1, tip_tint, tip) * (1 - barb), texel by
- * texel (nearest), on top of the instance's tint; rachis texels keep theirs. */
+ * mix(1, band_tint, bands) * mix(1, tip_tint, tip) * mix(1, base_tint, base)
+ * * (1 - barb), texel by texel (nearest), on top of the instance's tint;
+ * rachis texels keep theirs. An image of 3 channels (before the downy base
+ * had its own) reads as base 0. */
 static void pigment_tints_vane_texels(void **state)
 {
     (void)state;
@@ -151,26 +153,32 @@ static void pigment_tints_vane_texels(void **state)
     plm_feather_material_default(&m);
     m.band_tint = rgb_make(0.5, 0.25, 1.0);
     m.tip_tint = rgb_make(0.2, 0.2, 0.2);
+    m.base_tint = rgb_make(1.0, 0.4, 0.6);
     assert_int_equal(plm_feather_texture_from_pixels(2, 1, px, &m.texture, &err), PLM_OK);
-    static float pigment[2 * 3] = {1.0f, 0.5f, 0.1f, 1.0f, 1.0f, 0.0f}; /* bands, tip, barb per texel */
-    m.pigment = (plm_image){2, 1, 3, pigment};
-    plm_hit hit;
-    memset(&hit, 0, sizeof hit);
-    hit.material = &m;
-    hit.n = v3(0, 0, 1), hit.ng = hit.n, hit.dpdu = v3(1, 0, 0), hit.dpdv = v3(0, 1, 0);
-    hit.tint = rgb_make(0.8, 0.8, 0.8);
-    hit.uv = v2(0.25, 0.5);
-    plm_material_surface(&hit);
-    assert_true(hit.on_vane);
-    /* bands 1: band_tint; tip 0.5: halfway to 0.2 = 0.6; barb 0.1: 0.9; times the instance's 0.8. */
-    assert_double_near(hit.tint.r, 0.8 * 0.5 * 0.6 * 0.9, 1e-6);
-    assert_double_near(hit.tint.g, 0.8 * 0.25 * 0.6 * 0.9, 1e-6);
-    assert_double_near(hit.tint.b, 0.8 * 1.0 * 0.6 * 0.9, 1e-6);
-    hit.tint = rgb_make(0.8, 0.8, 0.8);
-    hit.uv = v2(0.75, 0.5);
-    plm_material_surface(&hit);
-    assert_false(hit.on_vane);
-    assert_double_near(hit.tint.r, 0.8, 0.0);
+    static float pigment[2 * 4] = {1.0f, 0.5f, 0.1f, 0.5f, 1.0f, 1.0f, 0.0f, 1.0f}; /* bands, tip, barb, base */
+    static float old_pigment[2 * 3] = {1.0f, 0.5f, 0.1f, 1.0f, 1.0f, 0.0f};         /* bands, tip, barb */
+    for (int channels = 3; channels <= 4; ++channels) {
+        m.pigment = (plm_image){2, 1, channels, channels == 4 ? pigment : old_pigment};
+        plm_hit hit;
+        memset(&hit, 0, sizeof hit);
+        hit.material = &m;
+        hit.n = v3(0, 0, 1), hit.ng = hit.n, hit.dpdu = v3(1, 0, 0), hit.dpdv = v3(0, 1, 0);
+        hit.tint = rgb_make(0.8, 0.8, 0.8);
+        hit.uv = v2(0.25, 0.5);
+        plm_material_surface(&hit);
+        assert_true(hit.on_vane);
+        /* bands 1: band_tint; tip 0.5: halfway to 0.2 = 0.6; barb 0.1: 0.9; times the instance's 0.8;
+         * base 0.5 (4 channels): halfway to base_tint. */
+        rgb base = channels == 4 ? rgb_make(1.0, 0.7, 0.8) : rgb_gray(1.0);
+        assert_double_near(hit.tint.r, 0.8 * 0.5 * 0.6 * 0.9 * base.r, 1e-6);
+        assert_double_near(hit.tint.g, 0.8 * 0.25 * 0.6 * 0.9 * base.g, 1e-6);
+        assert_double_near(hit.tint.b, 0.8 * 1.0 * 0.6 * 0.9 * base.b, 1e-6);
+        hit.tint = rgb_make(0.8, 0.8, 0.8);
+        hit.uv = v2(0.75, 0.5);
+        plm_material_surface(&hit);
+        assert_false(hit.on_vane);
+        assert_double_near(hit.tint.r, 0.8, 0.0);
+    }
     plm_feather_texture_free(&m.texture);
 }
 

@@ -395,6 +395,109 @@ static void bends_turn_the_rachis_by_their_angles(void **state)
     plm_species_free(&sp);
 }
 
+/* The rachis as the species' values make it, computed here from them alone:
+ * its tangent turns at a constant rate omega (bend out of the plane about -x,
+ * twist about y, bend in the plane about -z, each per mm), so frame vectors
+ * at arc length y are the base frame's rotated about omega by |omega| y. */
+static vec3 species_rotate(const plm_shape *sh, vec3 v, double y)
+{
+    vec3 w = v3_scale(v3(-sh->bend_out_of_plane, sh->twist, -sh->bend_in_plane), 1.0 / sh->length);
+    double a = v3_length(w) * y;
+    if (a < 1e-15)
+        return v;
+    vec3 k = v3_normalize(w);
+    return v3_add(v3_add(v3_scale(v, cos(a)), v3_scale(v3_cross(k, v), sin(a))),
+                  v3_scale(k, v3_dot(k, v) * (1.0 - cos(a))));
+}
+
+/* The centre line at y: the tangent integrated by Simpson's rule. */
+static vec3 species_centre(const plm_shape *sh, double y)
+{
+    enum { N = 400 };
+    vec3 c = v3(0, 0, 0);
+    for (int i = 0; i <= N; ++i) {
+        double weight = i == 0 || i == N ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        c = v3_add(c, v3_scale(species_rotate(sh, v3(0, 1, 0), y * i / N), weight * y / (3.0 * N)));
+    }
+    return c;
+}
+
+/* Measured on the generated vane mesh of every preset, against the species'
+ * own values: the rachis's direction (the mesh's midline, u = 1/2, whose
+ * secants over 10% of the vane give the tangent at their middle) at a fifth
+ * and at nine tenths of the vane, within 0.3 degrees; and the cupping, the
+ * parabola fitted across the vane in the rachis's frame between 30% and 70%
+ * of the vane, whose depth at the widest point must be tan(curl) W / 2
+ * within 4% (0.02 mm where flat). Bend and cup are what keep a feather lying
+ * on a table from reading as a flat cut-out. */
+static void every_preset_bends_and_cups_by_its_values(void **state)
+{
+    (void)state;
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s/presets/species", PLUMAGE_SOURCE_DIR);
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int count = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        size_t n = strlen(e->d_name);
+        if (n < 6 || strcmp(e->d_name + n - 5, ".json"))
+            continue;
+        char stem[256];
+        snprintf(stem, sizeof stem, "%.*s", (int)(n - 5), e->d_name);
+        plm_species sp = load_preset(stem);
+        const plm_shape *sh = &sp.shape;
+        plm_feather f = meshes_of(&sp);
+        const plm_mesh *m = &f.vane;
+        double y0 = f.outline.vane_base, lv = f.outline.vane_length;
+        for (int k = 0; k < 2; ++k) {
+            double from = k ? 0.85 : 0.15, to = k ? 0.95 : 0.25; /* v range of the secant */
+            vec3 lo = v3(0, 0, 0), hi = v3(0, 0, 0);
+            double vlo = 2.0, vhi = -1.0;
+            for (int i = 0; i < m->vertex_count; ++i) {
+                double u = m->uvs[2 * i], v = m->uvs[2 * i + 1];
+                vec3 p = v3(m->positions[3 * i], m->positions[3 * i + 1], m->positions[3 * i + 2]);
+                if (fabs(u - 0.5) > 1e-4 || v < from || v > to)
+                    continue;
+                if (v < vlo)
+                    vlo = v, lo = p;
+                if (v > vhi)
+                    vhi = v, hi = p;
+            }
+            assert_true(vhi - vlo > 0.05);
+            vec3 measured = v3_normalize(v3_sub(hi, lo));
+            vec3 expected = species_rotate(sh, v3(0, 1, 0), y0 + 0.5 * (vlo + vhi) * lv);
+            double angle = plm_degrees(acos(fmin(1.0, v3_dot(measured, expected))));
+            if (angle > 0.3)
+                fail_msg("%s: rachis direction at v = %.2f off by %.3f degrees", stem, 0.5 * (vlo + vhi), angle);
+        }
+        for (int side = 0; side < 2; ++side) {
+            double xz2 = 0.0, x4 = 0.0;
+            for (int i = 0; i < m->vertex_count; ++i) {
+                double u = m->uvs[2 * i], v = m->uvs[2 * i + 1];
+                if (v < 0.3 || v > 0.7 || (u > 0.5) != side || fabs(u - 0.5) < 1e-3)
+                    continue;
+                double y = y0 + v * lv;
+                vec3 p = v3_sub(v3(m->positions[3 * i], m->positions[3 * i + 1], m->positions[3 * i + 2]),
+                                species_centre(sh, y));
+                double x = v3_dot(p, species_rotate(sh, v3(1, 0, 0), y));
+                double depth = -v3_dot(p, species_rotate(sh, v3(0, 0, 1), y)); /* > 0 ventral */
+                xz2 += depth * x * x;
+                x4 += x * x * x * x;
+            }
+            double widest = f.outline.widest[side];
+            double measured = xz2 / x4 * widest * widest, expected = 0.5 * tan(sh->curl) * widest;
+            if (fabs(measured - expected) > fmax(0.04 * fabs(expected), 0.02))
+                fail_msg("%s: cup depth at the widest point of side %d %.3f mm, species %.3f mm", stem, side,
+                         measured, expected);
+        }
+        plm_feather_free(&f);
+        plm_species_free(&sp);
+        count++;
+    }
+    closedir(d);
+    assert_true(count >= 12);
+}
+
 /* The fitted cage's limit passes through the targets: the refined mesh's
  * first vertices descend from the cage vertices and sit on them. */
 static void limit_surface_interpolates_the_cage(void **state)
@@ -530,6 +633,7 @@ int main(void)
         cmocka_unit_test(rachis_is_a_closed_outward_tube),
         cmocka_unit_test(length_and_widths_match_the_parameters),
         cmocka_unit_test(bends_turn_the_rachis_by_their_angles),
+        cmocka_unit_test(every_preset_bends_and_cups_by_its_values),
         cmocka_unit_test(limit_surface_interpolates_the_cage),
         cmocka_unit_test(random_species_give_clean_feathers),
         cmocka_unit_test(same_species_same_bytes),

@@ -107,6 +107,44 @@ static void diffuse_plane_under_constant_sky(void **state)
     plm_scene_free(&s);
 }
 
+/* The pixel filter, from first principles: a black half-plane whose edge
+ * falls on a pixel boundary, against a sky of radiance 1. A box filter (the
+ * default) gives columns of exactly 0 and 1; a tent of radius 1 pixel
+ * reaches half a pixel across the edge from the two columns beside it, so
+ * each takes (1 - 1/2)^2 / 2 = 1/8 of the other side's radiance (0.125 and
+ * 0.875), and every column further away stays pure. Stratified samples
+ * through the tent's inverse distribution: within 0.01 at 256 spp. */
+static void pixel_filter_box_and_tent(void **state)
+{
+    (void)state;
+    for (int tent = 0; tent < 2; ++tent) {
+        plm_scene s;
+        plm_scene_init(&s);
+        plm_xform left = plm_xform_translate(v3(-10.0, 0.0, 0.0));
+        add_object(&s, add_quad_mesh(&s, "half", 20, 20, 0), add_diffuse(&s, "black", rgb_gray(0.0), 0.0), left);
+        add_light(&s, constant_env(1.0));
+        look(&s, v3(0, 0, 3), v3(0, 0, 0), v3(0, 1, 0), 30, 16, 4, 256);
+        s.film.filter_radius = tent ? 1.0 : 0.0;
+        plm_world w;
+        plm_error err;
+        assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
+        plm_render_options opt = {0};
+        plm_film film;
+        assert_int_equal(plm_render_world(&w, &opt, &film, &err), PLM_OK);
+        int dark_first = film.rgb[0] < 0.5; /* which side of the image the half-plane is on */
+        for (int x = 0; x < 16; ++x) {
+            double expected = (x < 8) == dark_first ? 0.0 : 1.0;
+            if (tent && (x == 7 || x == 8))
+                expected = expected == 0.0 ? 0.125 : 0.875;
+            for (int y = 0; y < 4; ++y)
+                assert_double_near(film.rgb[3 * (y * 16 + x) + 1], expected, tent ? 0.01 : 1e-12);
+        }
+        plm_film_free(&film);
+        plm_world_free(&w);
+        plm_scene_free(&s);
+    }
+}
+
 /* Under a distant light of irradiance E at 60 degrees from the normal, every
  * sample is exact: albedo / pi * E cos(60). */
 static void diffuse_plane_under_distant_light(void **state)
@@ -657,6 +695,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(diffuse_plane_under_constant_sky),
+        cmocka_unit_test(pixel_filter_box_and_tent),
         cmocka_unit_test(diffuse_plane_under_distant_light),
         cmocka_unit_test(estimators_agree),
         cmocka_unit_test(transparent_shadows_agree_with_stochastic_passing),

@@ -482,7 +482,7 @@ static void layout_blocks_place_generated_prototypes(void **state)
         plm_feather_params_default(&def);
         assert_double_near(mat->feather->barb.eta, def.barb.eta, 0.0);
         assert_double_near(mat->reflectance.g, 0.75, 0.0);
-        pigmented += mat->pigment.pixels != NULL && mat->pigment.channels == 3;
+        pigmented += mat->pigment.pixels != NULL && mat->pigment.channels == PLM_PIGMENT_CHANNELS;
     }
     assert_int_equal(pigmented, 4);
     int same = 1, differs = 0;

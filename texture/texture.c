@@ -35,10 +35,31 @@ typedef struct barb_cache {
     float value;
 } barb_cache;
 
+/* A uniform draw in [0, 1) per (seed, index, side). */
+static double draw(uint64_t seed, int64_t index, int side)
+{
+    return (double)(plm_hash64(seed, (uint64_t)index, (uint64_t)side) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* A barb's variation in [0, 1]: half its own draw, half a value that wanders
+ * smoothly across the barbs (draws every `clump` barbs, joined by a
+ * smoothstep), so that neighbouring barbs come in lighter and darker groups
+ * as real barbs do, rather than as per-barb grain. */
+static double barb_variation(const plm_pigment *pg, int64_t barb, int side)
+{
+    double clump = fmax(pg->barb_clump, 1.0);
+    if (clump <= 1.0)
+        return draw(pg->seed, barb, side);
+    double x = (double)barb / clump, k = floor(x), f = x - k;
+    int64_t knot = (int64_t)k;
+    double a = draw(pg->seed ^ 0xc1u, knot, side), b = draw(pg->seed ^ 0xc1u, knot + 1, side);
+    return 0.5 * draw(pg->seed, barb, side) + 0.5 * (a + (b - a) * f * f * (3.0 - 2.0 * f));
+}
+
 static void pigment_texel(const plm_outline *o, const plm_pigment *pg, const plm_flat_sample *s, int side,
                           barb_cache *cache, float *out)
 {
-    out[PLM_PIGMENT_BANDS] = out[PLM_PIGMENT_TIP] = out[PLM_PIGMENT_BARB] = 0.0f;
+    out[PLM_PIGMENT_BANDS] = out[PLM_PIGMENT_TIP] = out[PLM_PIGMENT_BARB] = out[PLM_PIGMENT_BASE] = 0.0f;
     if (s->region != PLM_FLAT_VANE)
         return;
     double t_origin = (s->barb_origin - o->vane_base) / o->vane_length;
@@ -46,13 +67,18 @@ static void pigment_texel(const plm_outline *o, const plm_pigment *pg, const plm
         out[PLM_PIGMENT_BANDS] = (float)band_value(t_origin * pg->band_count, pg->band_width);
     if (pg->tip_length > 0.0)
         out[PLM_PIGMENT_TIP] = (float)smoothstep(1.0 - pg->tip_length, 1.0, t_origin);
+    /* The downy base's colour over the barbs leaving the rachis there, fading
+     * along the barbs' origins (so the boundary follows the barbs) beyond it. */
+    double down = o->shape.plumulaceous;
+    out[PLM_PIGMENT_BASE] = (float)(t_origin <= down ? 1.0
+                                    : pg->base_length > 0.0 ? 1.0 - smoothstep(down, down + pg->base_length, t_origin)
+                                                            : 0.0);
     /* One value per barb: barbs are barb_density per cm along the rachis. */
     int64_t barb = (int64_t)floor((s->barb_origin - o->vane_base) * o->shape.barb_density / 10.0);
     if (barb != cache->barb || side != cache->side) {
-        uint64_t h = plm_hash64(pg->seed, (uint64_t)barb, (uint64_t)side);
         cache->barb = barb;
         cache->side = side;
-        cache->value = (float)(pg->barb_jitter * (double)(h >> 11) * (1.0 / 9007199254740992.0));
+        cache->value = (float)(pg->barb_jitter * barb_variation(pg, barb, side));
     }
     out[PLM_PIGMENT_BARB] = cache->value;
 }
@@ -81,7 +107,7 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
     if (rc == PLM_OK)
         rc = alloc_image(barb, width, height, 1, err);
     if (rc == PLM_OK && pigment)
-        rc = alloc_image(pigment, width, height, 3, err);
+        rc = alloc_image(pigment, width, height, PLM_PIGMENT_CHANNELS, err);
     if (rc != PLM_OK) {
         plm_texture_image_free(feather);
         plm_texture_image_free(barb);
@@ -117,7 +143,7 @@ plm_result plm_texture_author(const plm_outline *o, const plm_pigment *pg, int w
             px[PLM_FTEX_REGION] = plm_ftex_encode_region((plm_region)s.region);
             barb->pixels[(size_t)j * width + i] = plm_ftex_encode_barb((s.barb_origin - o->vane_base) * barbs_per_mm);
             if (pigment)
-                pigment_texel(o, pg, &s, p.x >= 0.0, &cache, pigment->pixels + 3 * ((size_t)j * width + i));
+                pigment_texel(o, pg, &s, p.x >= 0.0, &cache, pigment->pixels + PLM_PIGMENT_CHANNELS * ((size_t)j * width + i));
         }
     }
     return PLM_OK;
