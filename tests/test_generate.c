@@ -104,24 +104,39 @@ static void presets_load_and_leave_optics_alone(void **state)
     cJSON_Delete(root);
 }
 
+/* The species presets' folder, and the next preset's name in it (the file name less ".json"). */
+static DIR *open_presets(char dir[1024])
+{
+    snprintf(dir, 1024, "%s/presets/species", PLUMAGE_SOURCE_DIR);
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    return d;
+}
+
+static int next_preset(DIR *d, char stem[256])
+{
+    for (struct dirent *e; (e = readdir(d));) {
+        size_t n = strlen(e->d_name);
+        if (n >= 6 && strcmp(e->d_name + n - 5, ".json") == 0) {
+            snprintf(stem, 256, "%.*s", (int)(n - 5), e->d_name);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Every preset in presets/species loads, is named after its file, says where
  * its values come from, and reads as a feather: a short bare calamus (at most
  * 15% of the length) and a vane (down strands included) starting right there. */
 static void every_preset_loads_with_a_source(void **state)
 {
     (void)state;
-    char dir[1024];
-    snprintf(dir, sizeof dir, "%s/presets/species", PLUMAGE_SOURCE_DIR);
-    DIR *d = opendir(dir);
-    assert_non_null(d);
+    char dir[1024], stem[256];
+    DIR *d = open_presets(dir);
     int count = 0;
-    for (struct dirent *e; (e = readdir(d));) {
-        size_t n = strlen(e->d_name);
-        if (n < 6 || strcmp(e->d_name + n - 5, ".json"))
-            continue;
-        char path[2048], stem[256];
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        snprintf(stem, sizeof stem, "%.*s", (int)(n - 5), e->d_name);
+    while (next_preset(d, stem)) {
+        char path[2048];
+        snprintf(path, sizeof path, "%s/%s.json", dir, stem);
         plm_species sp;
         plm_error err = {{0}};
         if (plm_species_load(path, &sp, &err) != PLM_OK)
@@ -433,17 +448,10 @@ static vec3 species_centre(const plm_shape *sh, double y)
 static void every_preset_bends_and_cups_by_its_values(void **state)
 {
     (void)state;
-    char dir[1024];
-    snprintf(dir, sizeof dir, "%s/presets/species", PLUMAGE_SOURCE_DIR);
-    DIR *d = opendir(dir);
-    assert_non_null(d);
+    char dir[1024], stem[256];
+    DIR *d = open_presets(dir);
     int count = 0;
-    for (struct dirent *e; (e = readdir(d));) {
-        size_t n = strlen(e->d_name);
-        if (n < 6 || strcmp(e->d_name + n - 5, ".json"))
-            continue;
-        char stem[256];
-        snprintf(stem, sizeof stem, "%.*s", (int)(n - 5), e->d_name);
+    while (next_preset(d, stem)) {
         plm_species sp = load_preset(stem);
         const plm_shape *sh = &sp.shape;
         plm_feather f = meshes_of(&sp);
