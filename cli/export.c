@@ -20,7 +20,7 @@ int cmd_export(int argc, char **argv)
         {"-o", PLM_OPT_STRING, &output, 0, 0, 0, NULL, "OUT.glb", "the file to write: .glb or .gltf", 0},
         {"--output", PLM_OPT_STRING, &output, 0, 0, 0, NULL, "OUT.glb", "same as -o", 0},
         {"--set", PLM_OPT_LIST, &sets, 0, 0, 0, NULL, "PATH=VALUE", "change a scene field first (as render --set)", 0},
-        {"--no-fluff", PLM_OPT_FLAG, &no_fluff, 0, 0, 0, NULL, NULL, "leave the fluffy bases out", 0},
+        {"--no-fluff", PLM_OPT_FLAG, &no_fluff, 0, 0, 0, NULL, NULL, "leave the fluffy bases (lines) out", 0},
         {"--bake-views", PLM_OPT_INT, &go.bake.views, 0, 2, 256, NULL, "N",
          "the bake's views: N x N over the hemisphere (default 24)", 0},
         {"--bake-samples", PLM_OPT_INT, &go.bake.samples, 0, 1, 1 << 16, NULL, "N",
@@ -32,9 +32,11 @@ int cmd_export(int argc, char **argv)
     plm_command_help help = {
         "plumage export SCENE.json -o OUT.glb|OUT.gltf [options]",
         "Writes the scene's geometry and materials as glTF 2.0 (through Assimp), for Blender, game engines\n"
-        "and web viewers: each distinct feather's vane and rachis once, each placed feather a node referring\n"
-        "to them with its transform, the body and surface meshes, texture coordinates and normals, under a\n"
-        "root node that turns the scene's up axis (its camera's) into glTF's +y. Each feather material's\n"
+        "and web viewers: each distinct feather's vane, rachis and fluff once, each placed feather a node\n"
+        "referring to them with its transform, the body and surface meshes, texture coordinates and normals,\n"
+        "under a root node that turns the scene's up axis (its camera's) into glTF's +y. The fluff's fibers\n"
+        "go out as line segments (no width: glTF lines have none) coloured by the fiber's far field, or not\n"
+        "at all with --no-fluff. Each feather material's\n"
         "base colour is a texture baked from plumage's own BSDF under uniform white light (the colour of\n"
         "plumage's render at a distance), times the pigment and the mean tint of its feathers, with the\n"
         "vane's transparency as alpha; its orientation texture goes along in an unlit material NAME.orientation.\n"
@@ -77,10 +79,11 @@ int cmd_export(int argc, char **argv)
     }
     if (!quiet)
         fprintf(stderr,
-                "%s: %d nodes (%d feathers), %d meshes, %d materials, %d textures; %d instances exported, %d left "
-                "out; bake %.2f s, write %.2f s\n",
-                output, r.nodes, r.feathers, r.meshes, r.materials, r.textures, r.instances, r.left_out,
-                r.bake_seconds, r.write_seconds);
+                "%s: %d nodes (%d feathers), %d meshes (%d of lines: %ld segments), %d materials, %d textures; %d "
+                "instances exported, %d left out%s; bake %.2f s, write %.2f s\n",
+                output, r.nodes, r.feathers, r.meshes, r.line_meshes, r.segments, r.materials, r.textures,
+                r.instances, r.left_out, no_fluff ? " (the fluff: --no-fluff)" : "", r.bake_seconds,
+                r.write_seconds);
     plm_print_wrote((const char *const[]){output}, 1);
     return 0;
 }

@@ -42,10 +42,11 @@ typedef struct plm_asset_texture {
     char uri[256];
 } plm_asset_texture;
 
-/* A node: its transform relative to its parent, and up to two meshes
- * drawn there (two meshes become one glTF mesh of two primitives). Nodes
- * come after their parent; node 0 is the root. */
-#define PLM_ASSET_NODE_MESHES 2
+/* A node: its transform relative to its parent, and up to three meshes
+ * drawn there (a feather's vane, rachis and fluff; a node's meshes become
+ * one glTF mesh of as many primitives). Nodes come after their parent;
+ * node 0 is the root. */
+#define PLM_ASSET_NODE_MESHES 3
 typedef struct plm_asset_node {
     char name[64];
     int parent;              /* -1 for the root */

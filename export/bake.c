@@ -33,7 +33,7 @@ static plm_result plane_hit(const plm_material *m, plm_material *plain, plm_hit 
     plain->pigment.pixels = NULL;
     *h = (plm_hit){0};
     h->ng = h->n = v3(0, 0, 1);
-    h->dpdu = v3(1, 0, 0);
+    h->dpdu = v3(1, 0, 0); /* on a fiber: its axis */
     h->dpdv = v3(0, 1, 0);
     h->tint = rgb_gray(1.0);
     h->material = plain;
@@ -105,10 +105,25 @@ plm_result plm_bake_view_at(const plm_material *m, vec3 wo, int samples, uint64_
     return PLM_OK;
 }
 
+/* View i of k x k stratified ones and its weight: for a surface cosine-distributed
+ * over the dorsal hemisphere (weight 1); for a fiber uniform over the sphere,
+ * weighted by the width it shows (|wo x axis|), as a tuft of fibers lying every
+ * which way shows them at a distance. */
+static vec3 bake_view(const plm_material *m, int i, int k, plm_rng *rng, double *weight)
+{
+    double u1 = (i % k + plm_rng_uniform(rng)) / k, u2 = (i / k + plm_rng_uniform(rng)) / k;
+    *weight = 1.0;
+    if (m->type != PLM_MATERIAL_FIBER)
+        return plm_sample_cosine_hemisphere(u1, u2);
+    vec3 wo = plm_sample_uniform_sphere(u1, u2);
+    *weight = sqrt(wo.y * wo.y + wo.z * wo.z); /* the fiber's axis is dpdu = +x (plane_hit) */
+    return wo;
+}
+
 plm_result plm_bake_albedo_of(const plm_material *m, const plm_bake_options *o, plm_bake_albedo *out,
                               plm_error *err)
 {
-    if (m->type != PLM_MATERIAL_FEATHER) {
+    if (m->type != PLM_MATERIAL_FEATHER && m->type != PLM_MATERIAL_FIBER) {
         *out = (plm_bake_albedo){m->reflectance, 1.0 - m->transmission, 0.0};
         return PLM_OK;
     }
@@ -119,27 +134,27 @@ plm_result plm_bake_albedo_of(const plm_material *m, const plm_bake_options *o, 
         return rc;
     plm_rng rng;
     plm_rng_seed(&rng, o->seed, 2);
-    /* Views cosine-distributed over the dorsal hemisphere, one per stratum of a k x k grid. */
-    double wt_sum = 0.0, s_sum = 0.0, s_sum2 = 0.0;
+    /* Weighted sums over the views (a fiber passes nothing straight through: w_t = 0). */
+    double w_sum = 0.0, wt_sum = 0.0, s_sum = 0.0, s_sum2 = 0.0;
     rgb scattered = rgb_gray(0.0);
     for (int i = 0; i < k * k; ++i) {
-        double u1 = (i % k + plm_rng_uniform(&rng)) / k, u2 = (i / k + plm_rng_uniform(&rng)) / k;
-        vec3 wo = plm_sample_cosine_hemisphere(u1, u2);
+        double w;
+        vec3 wo = bake_view(m, i, k, &rng, &w);
         rgb a;
         double wt = furnace_view(&f, wo, n, &rng, &a), s = (1.0 - wt) * rgb_mean(a);
-        wt_sum += wt;
-        scattered = rgb_add(scattered, rgb_scale(a, 1.0 - wt));
-        s_sum += s, s_sum2 += s * s;
+        w_sum += w, wt_sum += w * wt;
+        scattered = rgb_add(scattered, rgb_scale(a, w * (1.0 - wt)));
+        s_sum += w * s, s_sum2 += w * s * s;
     }
     free(f.bsdf);
-    double views = (double)(k * k), alpha = 1.0 - wt_sum / views;
+    double alpha = 1.0 - wt_sum / w_sum;
     if (!(alpha > 0.0))
         return plm_fail(err, PLM_ERR_INVALID, "material %s: lets all light through (alpha 0); nothing to bake",
                         m->name);
     out->alpha = alpha;
-    out->colour = rgb_scale(scattered, 1.0 / (views * alpha));
+    out->colour = rgb_scale(scattered, 1.0 / (w_sum * alpha));
     /* Across views, treating the strata as independent draws: an upper bound. */
-    double mean = s_sum / views;
-    out->colour_se = sqrt(fmax(s_sum2 / views - mean * mean, 0.0) / (views - 1.0)) / alpha;
+    double views = (double)(k * k), mean = s_sum / w_sum;
+    out->colour_se = sqrt(fmax(s_sum2 / w_sum - mean * mean, 0.0) / (views - 1.0)) / alpha;
     return PLM_OK;
 }

@@ -14,7 +14,12 @@
  * are not resolved. The average over views is over all azimuths, so it does
  * not depend on which way the barbs run: one value per feather optics, which
  * the pigment image and the instances' tints then scale texel by texel
- * (docs/assets.md). */
+ * (docs/assets.md).
+ *
+ * A fiber (a feather's fluff, drawn as lines) is baked the same way with
+ * its fiber BCSDF across a fiber along +x: w_t = 0, and the views are
+ * uniform over the sphere weighted by the width the fiber shows from each,
+ * |wo x axis|, the mix a tuft of fibers lying every which way sends back. */
 #ifndef PLUMAGE_EXPORT_BAKE_H
 #define PLUMAGE_EXPORT_BAKE_H
 
@@ -52,7 +57,9 @@ typedef struct plm_bake_options {
 plm_result plm_bake_view_at(const plm_material *m, vec3 wo, int samples, uint64_t seed, plm_bake_view *out,
                             plm_error *err);
 
-/* C and a as above. For a diffuse material: its reflectance and 1 - its transmission. */
+/* C and a as above (a fiber: a = 1). A fiber material's table is used if
+ * built, else its stochastic estimator. For a diffuse or coat material: its
+ * reflectance and 1 - its transmission. */
 plm_result plm_bake_albedo_of(const plm_material *m, const plm_bake_options *o, plm_bake_albedo *out,
                               plm_error *err);
 

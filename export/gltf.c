@@ -13,6 +13,7 @@
 #include "common/image_io.h"
 #include "export/asset.h"
 #include "optics/feather_bsdf.h"
+#include "optics/fiber_table.h"
 #include "render/material.h"
 
 static double now(void)
@@ -55,36 +56,70 @@ typedef struct builder {
     int *tint_count;
     int *node_of_feather;    /* feather id -> node, -1: none yet */
     unsigned char **pngs;    /* per texture, owned */
+    int *source_mesh;        /* per asset mesh: the scene mesh it is */
+    float **line_points;     /* per asset mesh of curves: its vertices, owned */
+    uint32_t **line_indices; /* and its segments */
 } builder;
 
 static plm_result grow_fail(plm_error *err) { return plm_fail(err, PLM_ERR_NO_MEMORY, "glTF export: out of memory"); }
 
-/* Curves (a generated feather's fluff) are fibers, which glTF's triangle meshes do not hold: left out too. */
-static int keep(const builder *b, const plm_instance *in)
+/* Everything but the fluffy bases with no_fluff: curves (a generated feather's fluff) go out as lines. */
+static int keep(const builder *b, const plm_instance *in) { return !(b->o->no_fluff && in->part == PLM_PART_FLUFF); }
+
+/* Curves as line segments: each polyline's points as vertices (the radius
+ * dropped: glTF lines have no width), consecutive ones joined. */
+static plm_result add_lines(builder *b, plm_asset_mesh *am, const plm_curves *c, plm_error *err)
 {
-    return b->scene->meshes[in->mesh].curves.curve_count == 0 && !(b->o->no_fluff && in->part == PLM_PART_FLUFF);
+    int segments = plm_curves_segment_count(c);
+    float *p = malloc(3 * sizeof *p * ((size_t)c->point_count + 1));
+    uint32_t *idx = malloc(2 * sizeof *idx * ((size_t)segments + 1));
+    b->line_points[b->a.mesh_count] = p;
+    b->line_indices[b->a.mesh_count] = idx;
+    if (!p || !idx)
+        return grow_fail(err);
+    for (int i = 0; i < c->point_count; ++i)
+        memcpy(p + 3 * (size_t)i, c->points + 4 * (size_t)i, 3 * sizeof *p);
+    size_t n = 0;
+    for (int k = 0; k < c->curve_count; ++k)
+        for (int i = c->first[k]; i + 1 < c->first[k + 1]; ++i)
+            idx[n++] = (uint32_t)i, idx[n++] = (uint32_t)i + 1;
+    am->lines = 1;
+    am->vertex_count = c->point_count;
+    am->positions = p;
+    am->index_count = 2 * segments;
+    am->indices = idx;
+    return PLM_OK;
 }
 
 /* The asset mesh of an instance's (mesh, material), added on first use. */
-static int mesh_for(builder *b, const plm_instance *in)
+static plm_result mesh_for(builder *b, const plm_instance *in, int *out, plm_error *err)
 {
     for (int i = 0; i < b->a.mesh_count; ++i)
-        if (b->a.meshes[i].material == b->material_of[in->material] &&
-            b->a.meshes[i].positions == b->scene->meshes[in->mesh].mesh.positions)
-            return i;
+        if (b->a.meshes[i].material == b->material_of[in->material] && b->source_mesh[i] == in->mesh) {
+            *out = i;
+            return PLM_OK;
+        }
     const plm_scene_mesh *sm = &b->scene->meshes[in->mesh];
     const plm_mesh *m = &sm->mesh;
     plm_asset_mesh *am = &b->a.meshes[b->a.mesh_count];
     memset(am, 0, sizeof *am);
     snprintf(am->name, sizeof am->name, "%s", sm->name);
     am->material = b->material_of[in->material];
-    am->vertex_count = m->vertex_count;
-    am->positions = m->positions;
-    am->normals = m->normals;
-    am->uvs = m->uvs;
-    am->index_count = 3 * m->triangle_count;
-    am->indices = m->indices;
-    return b->a.mesh_count++;
+    b->source_mesh[b->a.mesh_count] = in->mesh;
+    if (sm->curves.curve_count > 0) {
+        plm_result rc = add_lines(b, am, &sm->curves, err);
+        if (rc != PLM_OK)
+            return rc;
+    } else {
+        am->vertex_count = m->vertex_count;
+        am->positions = m->positions;
+        am->normals = m->normals;
+        am->uvs = m->uvs;
+        am->index_count = 3 * m->triangle_count;
+        am->indices = m->indices;
+    }
+    *out = b->a.mesh_count++;
+    return PLM_OK;
 }
 
 static void set_matrix(plm_asset_node *n, const double m[3][4]) { memcpy(n->matrix, m, sizeof n->matrix); }
@@ -108,7 +143,7 @@ static int new_node(builder *b, int i)
 
 /* Nodes: the root, then a node per placed feather (its parts share a
  * transform) and per other instance, each naming its asset meshes. */
-static void build_nodes(builder *b, plm_gltf_report *r)
+static plm_result build_nodes(builder *b, plm_gltf_report *r, plm_error *err)
 {
     const plm_scene *s = b->scene;
     plm_asset_node *root = &b->a.nodes[b->a.node_count++];
@@ -123,6 +158,10 @@ static void build_nodes(builder *b, plm_gltf_report *r)
             continue;
         }
         r->instances++;
+        int mesh;
+        plm_result rc = mesh_for(b, in, &mesh, err);
+        if (rc != PLM_OK)
+            return rc;
         int node = in->feather > 0 ? b->node_of_feather[in->feather] : -1;
         if (node < 0 || b->a.nodes[node].mesh_count == PLM_ASSET_NODE_MESHES ||
             !same_matrix(b->a.nodes[node].matrix, in->xform.m)) {
@@ -133,8 +172,9 @@ static void build_nodes(builder *b, plm_gltf_report *r)
             }
         }
         plm_asset_node *n = &b->a.nodes[node];
-        n->mesh[n->mesh_count++] = mesh_for(b, in);
+        n->mesh[n->mesh_count++] = mesh;
     }
+    return PLM_OK;
 }
 
 /* name with characters outside [A-Za-z0-9._-] as '_' (a file name). */
@@ -224,24 +264,49 @@ static plm_result prepare_feather(builder *b, plm_material *m, plm_error *err)
     return plm_feather_params_build_tables(m->feather, &tables, err);
 }
 
-/* The albedo of m, baked once per feather optics (variants share theirs). */
-static plm_result albedo_of(builder *b, int mi, plm_bake_albedo *baked, const struct plm_feather_params **done,
-                            plm_bake_albedo *out, plm_error *err)
+/* A fluff fiber's table, as rendering builds it (render/world.c). */
+static plm_result prepare_fiber(builder *b, plm_fiber_material *f, plm_error *err)
+{
+    if (f->stochastic || f->table)
+        return PLM_OK;
+    plm_fiber_table_options table = {.threads = b->o->table_threads, .budget_mib = b->scene->film.fiber_table_mib};
+    return plm_fiber_table_get(&f->fiber, &table, &f->table, err);
+}
+
+/* What a material's far field depends on beyond itself: its feather or
+ * fiber parameters, which variants of a species share (NULL: none). */
+static const void *optics_of(const plm_material *m)
+{
+    return m->type == PLM_MATERIAL_FEATHER ? (const void *)m->feather
+           : m->type == PLM_MATERIAL_FIBER ? (const void *)m->fiber
+                                           : NULL;
+}
+
+/* The albedo of m, baked once per feather or fiber optics (variants share theirs). */
+static plm_result albedo_of(builder *b, int mi, plm_bake_albedo *baked, const void **done, plm_bake_albedo *out,
+                            plm_error *err)
 {
     plm_material *m = &b->scene->materials[mi];
+    const void *optics = optics_of(m);
     for (int j = 0; j < mi; ++j)
-        if (m->type == PLM_MATERIAL_FEATHER && done[j] == m->feather) {
+        if (optics && done[j] == optics) {
             *out = baked[j];
             return PLM_OK;
         }
-    plm_result rc = m->type == PLM_MATERIAL_FEATHER ? prepare_feather(b, m, err) : PLM_OK;
+    plm_result rc = m->type == PLM_MATERIAL_FEATHER ? prepare_feather(b, m, err)
+                    : m->type == PLM_MATERIAL_FIBER ? prepare_fiber(b, m->fiber, err)
+                                                    : PLM_OK;
     if (rc == PLM_OK)
         rc = plm_bake_albedo_of(m, &b->o->bake, out, err);
     /* Tens of MiB per optics, needed for nothing else here: one set at a time. */
     if (m->type == PLM_MATERIAL_FEATHER)
         plm_feather_params_free_tables(m->feather);
+    if (m->type == PLM_MATERIAL_FIBER) {
+        plm_fiber_table_free(m->fiber->table);
+        m->fiber->table = NULL;
+    }
     baked[mi] = *out;
-    done[mi] = m->type == PLM_MATERIAL_FEATHER ? m->feather : NULL;
+    done[mi] = optics;
     return rc;
 }
 
@@ -252,7 +317,7 @@ static plm_result build_materials(builder *b, plm_error *err)
     const plm_scene *s = b->scene;
     int n = s->material_count;
     plm_bake_albedo *baked = calloc((size_t)n + 1, sizeof *baked);
-    const struct plm_feather_params **done = calloc((size_t)n + 1, sizeof *done);
+    const void **done = calloc((size_t)n + 1, sizeof *done);
     plm_result rc = baked && done ? PLM_OK : grow_fail(err);
     for (int mi = 0; mi < n && rc == PLM_OK; ++mi) {
         if (b->material_of[mi] < 0)
@@ -321,8 +386,12 @@ static plm_result builder_init(builder *b, plm_scene *s, const char *path, const
     b->tint_sum = calloc(nm, sizeof *b->tint_sum);
     b->tint_count = calloc(nm, sizeof *b->tint_count);
     b->node_of_feather = malloc(((size_t)s->feather_count + 1) * sizeof *b->node_of_feather);
+    b->source_mesh = calloc(ni, sizeof *b->source_mesh);
+    b->line_points = calloc(ni, sizeof *b->line_points);
+    b->line_indices = calloc(ni, sizeof *b->line_indices);
     if (!b->a.meshes || !b->a.nodes || !b->a.materials || !b->a.textures || !b->pngs || !b->material_of ||
-        !b->tint_sum || !b->tint_count || !b->node_of_feather)
+        !b->tint_sum || !b->tint_count || !b->node_of_feather || !b->source_mesh || !b->line_points ||
+        !b->line_indices)
         return grow_fail(err);
     for (size_t i = 0; i < nm; ++i)
         b->material_of[i] = -1;
@@ -344,6 +413,11 @@ static void builder_free(builder *b)
     free(b->tint_sum);
     free(b->tint_count);
     free(b->node_of_feather);
+    for (int i = 0; b->line_points && b->line_indices && i <= b->a.mesh_count; ++i)
+        free(b->line_points[i]), free(b->line_indices[i]);
+    free(b->source_mesh);
+    free(b->line_points);
+    free(b->line_indices);
 }
 
 plm_result plm_gltf_export(plm_scene *scene, const char *path, const plm_gltf_options *o, plm_gltf_report *report,
@@ -354,7 +428,9 @@ plm_result plm_gltf_export(plm_scene *scene, const char *path, const plm_gltf_op
     plm_result rc = builder_init(&b, scene, path, o, err);
     if (rc == PLM_OK) {
         use_materials(&b);
-        build_nodes(&b, &r);
+        rc = build_nodes(&b, &r, err);
+    }
+    if (rc == PLM_OK) {
         if (r.instances == 0)
             rc = plm_fail(err, PLM_ERR_INVALID, "%s: the scene has nothing to export (%d instances, %d left out)",
                           path, scene->instance_count, r.left_out);
@@ -371,6 +447,9 @@ plm_result plm_gltf_export(plm_scene *scene, const char *path, const plm_gltf_op
     r.meshes = b.a.mesh_count;
     r.materials = b.a.material_count;
     r.textures = b.a.texture_count;
+    for (int i = 0; i < b.a.mesh_count; ++i)
+        if (b.a.meshes[i].lines)
+            r.line_meshes++, r.segments += b.a.meshes[i].index_count / 2;
     builder_free(&b);
     if (report)
         *report = r;

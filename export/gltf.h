@@ -2,7 +2,8 @@
  * distinct (mesh, material) pair once, each placed feather a node with its
  * transform referring to its vane and rachis, every other instance (body,
  * surface) a node of its own, under a root node that turns the scene's up
- * axis into glTF's +y. Feather materials get a base colour texture baked
+ * axis into glTF's +y. Curves (a feather's fluff) go out as line segments,
+ * their colour the fiber's, baked alike. Feather materials get a base colour texture baked
  * from the renderer's BSDF (export/bake.h) with the vane's transparency as
  * alpha, and their orientation texture rides along in an unlit material of
  * its own. */
@@ -15,7 +16,7 @@
 
 /* Zero-initialised: everything exported, the bake's defaults. */
 typedef struct plm_gltf_options {
-    int no_fluff;        /* leave the fluffy bases (part "fluff") out */
+    int no_fluff;        /* leave the fluffy bases (part "fluff": lines or meshes) out */
     plm_bake_options bake;
     int table_threads;   /* fiber table builds: 0 = all cores */
 } plm_gltf_options;
@@ -27,7 +28,9 @@ typedef struct plm_gltf_report {
     int materials;    /* with the orientation materials */
     int textures;
     int instances;    /* the scene's instances exported */
-    int left_out;     /* instances left out (fluff with no_fluff; curves always) */
+    int left_out;     /* instances left out (the fluff with no_fluff) */
+    int line_meshes;  /* meshes of line segments (curves: fluff) */
+    long segments;    /* their segments */
     double bake_seconds, write_seconds;
 } plm_gltf_report;
 

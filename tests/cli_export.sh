@@ -14,10 +14,13 @@ cat > quad.json <<'JSON'
 }
 JSON
 expect_ok "export a scene of two cards" "$PLUMAGE" export quad.json -o cards.glb
-grep -q "cards.glb: 3 nodes (0 feathers), 1 meshes, 1 materials, 0 textures; 2 instances exported" err.txt \
-    && pass "the summary counts the root, 2 nodes and 1 shared mesh" || fail "summary: $(cat err.txt)"
+summary="cards.glb: 3 nodes (0 feathers), 1 meshes (0 of lines: 0 segments), 1 materials, 0 textures"
+grep -qF "$summary; 2 instances exported" err.txt && pass "the summary counts the root, 2 nodes and 1 shared mesh" || fail "summary: $(cat err.txt)"
 grep -q "^wrote cards.glb$" err.txt && pass "ends with 'wrote cards.glb'" || fail "wrote line: $(cat err.txt)"
 [ "$(head -c 4 cards.glb)" = "glTF" ] && pass "a binary glTF" || fail "not a binary glTF"
+expect_ok "export without the fluff" "$PLUMAGE" export quad.json -o bare.glb --no-fluff
+grep -q "2 instances exported, 0 left out (the fluff: --no-fluff)" err.txt \
+    && pass "the summary says the fluff was left out" || fail "summary: $(cat err.txt)"
 expect_ok "export as .gltf into a new folder" "$PLUMAGE" export quad.json -o out/cards.gltf --quiet
 [ -s out/cards.gltf ] && [ -s out/cards.bin ] && pass ".gltf with its .bin beside it" || fail ".gltf and .bin: $(ls out)"
 grep -q '"uri": "cards.bin"' out/cards.gltf && pass "the .gltf names its buffer by a relative path" \
