@@ -66,7 +66,7 @@ static const plm_subcommand benches[] = {
     {"generate", bench_generate, "one flight feather in memory: meshes + 1024x1024 textures, ms and peak memory"},
     {"render", bench_render, "path tracer: samples/s/thread and peak memory, one feather and 2,500 instanced"},
     {"scene", bench_scene, "scene files and pelts of 100 to 100,000 feathers: load, samples/s/thread, peak memory"},
-    {"export", bench_export, "glTF export of the 2,500-feather pelt and the default wing: seconds, file size, memory"},
+    {"export", bench_export, "glTF export of pelt_2500, the wing and the parrot, with and without fluff"},
     {"fiber", bench_fiber, "fiber BCSDF: single-thread ns per prepare+eval and prepare+sample, Fig. 7 fibers"},
     {NULL, NULL, NULL}, /* sentinel: benchmarks are added here as the parts land */
 };

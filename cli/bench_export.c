@@ -1,8 +1,9 @@
 /* plumage bench export: glTF export of scene files (by default the
- * 2,500-feather pelt and the default wing), each in a child process of its
- * own: load seconds, the export's bake and write seconds, the file's size,
- * its nodes and meshes, and peak resident memory after the load and during
- * the export alone. */
+ * 2,500-feather pelt, the default wing and the parrot), each with its fluff
+ * as lines and with --no-fluff, each in a child process of its own: load
+ * seconds, the export's bake and write seconds, the file's size, its nodes,
+ * meshes and line segments, and peak resident memory after the load and
+ * during the export alone. */
 #include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -76,9 +77,12 @@ static int run_isolated(const char *path, const char *out, const plm_gltf_option
         return 1;
     }
     const plm_gltf_report *r = &f.report;
-    printf("%-24s %9d %6d %6d %7.2f %7.2f %7.2f %8.2f %10.3f %9.1f %9.1f\n", slash ? slash + 1 : path, f.instances,
-           r->nodes, r->meshes, f.load, r->bake_seconds, r->write_seconds, f.export_seconds, f.file_mib,
-           f.load_peak_mib, f.export_peak_mib);
+    char segments[32] = "off";
+    if (!o->no_fluff)
+        snprintf(segments, sizeof segments, "%ld", r->segments);
+    printf("%-24s %9d %6d %6d %9s %7.2f %7.2f %7.2f %8.2f %10.3f %9.1f %9.1f\n", slash ? slash + 1 : path,
+           f.instances, r->nodes, r->meshes, segments, f.load, r->bake_seconds, r->write_seconds, f.export_seconds,
+           f.file_mib, f.load_peak_mib, f.export_peak_mib);
     return 0;
 }
 
@@ -109,19 +113,21 @@ int bench_export(int argc, char **argv)
     };
     plm_command_help help = {
         "plumage bench export [SCENE.json...] [options]",
-        "Exports each scene (default: presets/scenes/pelt_2500.json and the default wing,\n"
-        "presets/scenes/default.json) as glTF into a temporary folder, each in a process of its own, and\n"
+        "Exports each scene (default: presets/scenes/pelt_2500.json, the default wing,\n"
+        "presets/scenes/default.json, and the parrot, presets/scenes/amazon_parrot.json) as glTF into a\n"
+        "temporary folder, with its fluff as lines and then with --no-fluff, each in a process of its own, and\n"
         "prints: load seconds (generation and layout), the export's bake and write seconds and their total,\n"
-        "the file's size in MiB (.gltf: the JSON alone), its nodes and meshes, and the peak resident memory\n"
-        "after the load and during the export alone (docs/benchmarks.md)."};
+        "the file's size in MiB (.gltf: the JSON alone), its nodes, meshes and line segments (off: --no-fluff)\n"
+        "and the peak resident memory after the load and during the export alone (docs/benchmarks.md)."};
     const char *scenes[64];
     int n = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), scenes, 64, &n);
     if (rc)
         return rc == 1 ? 0 : 2;
-    static const char *const defaults[] = {"presets/scenes/pelt_2500.json", "presets/scenes/default.json"};
+    static const char *const defaults[] = {"presets/scenes/pelt_2500.json", "presets/scenes/default.json",
+                                           "presets/scenes/amazon_parrot.json"};
     if (n == 0)
-        for (; n < 2; ++n)
+        for (; n < 3; ++n)
             scenes[n] = defaults[n];
     const char *tmp = getenv("TMPDIR");
     char dir[4096];
@@ -130,13 +136,14 @@ int bench_export(int argc, char **argv)
         fprintf(stderr, "error: cannot make a temporary folder %s\n", dir);
         return 1;
     }
-    printf("%-24s %9s %6s %6s %7s %7s %7s %8s %10s %9s %9s\n", "scene", "instances", "nodes", "meshes", "load_s",
-           "bake_s", "write_s", "export_s", "file_mib", "load_mib", "exp_mib");
+    printf("%-24s %9s %6s %6s %9s %7s %7s %7s %8s %10s %9s %9s\n", "scene", "instances", "nodes", "meshes",
+           "segments", "load_s", "bake_s", "write_s", "export_s", "file_mib", "load_mib", "exp_mib");
     int failed = 0;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < 2 * n; ++i) {
         char out[4200];
         snprintf(out, sizeof out, "%s/%d.%s", dir, i, gltf ? "gltf" : "glb");
-        failed |= run_isolated(scenes[i], out, &o);
+        o.no_fluff = i % 2;
+        failed |= run_isolated(scenes[i / 2], out, &o);
     }
     remove_folder(dir);
     return failed;

@@ -2,7 +2,8 @@
 # and the default wing (level 1, 64-texel textures, a coarse bake) as .glb,
 # checked by blender/check_gltf.py inside Blender against the files' own
 # JSON: an object per node with a mesh, the meshes linked duplicates, the
-# materials' base colour and alpha from their textures.
+# materials' base colour and alpha from their textures, the fluff's line
+# segments as loose edges.
 # Skipped (exit 77) where Blender is not installed; $BLENDER names another one.
 # usage: bash blender_gltf.sh <plumage> <scratch dir>
 set -u

@@ -6,7 +6,9 @@
 # made one object per node with a mesh, one mesh datablock per glTF mesh
 # shared by every object of that mesh (linked duplicates, not copies), and
 # that every material with a base colour texture in the file got an image
-# texture with pixels feeding its Principled BSDF's Base Color and Alpha.
+# texture with pixels feeding its Principled BSDF's Base Color and Alpha, and
+# that each mesh's line segments (the fluff, mode 1) became as many loose
+# edges (edges of no face) of its datablock.
 # With --render, renders the last file with Cycles from CAMERA: px,py,pz,tx,ty,tz,fov in Blender's coordinates.
 import json
 import os
@@ -38,6 +40,32 @@ def read_glb_json(path):
     json_length, kind = struct.unpack_from("<I4s", data, 12)
     assert kind == b"JSON", path + ": first chunk is not JSON"
     return json.loads(data[20:20 + json_length])
+
+
+def segments(gltf, mesh):
+    """Line segments of a glTF mesh: its mode 1 primitives' indices over 2."""
+    return sum(gltf["accessors"][p["indices"]]["count"] // 2 for p in gltf["meshes"][mesh]["primitives"]
+               if p.get("mode") == 1)
+
+
+def loose_edges(mesh):
+    in_faces = {key for p in mesh.polygons for key in p.edge_keys}
+    return sum(1 for e in mesh.edges if e.key not in in_faces)
+
+
+def check_lines(path, gltf, mesh_nodes):
+    """Each datablock has as many loose edges as its glTF mesh has line segments."""
+    mesh_of_node = {n["name"]: n["mesh"] for n in mesh_nodes}
+    seen, lines = set(), 0
+    for o in bpy.data.objects:
+        if o.type != "MESH" or o.name not in mesh_of_node or o.data.name in seen:
+            continue
+        seen.add(o.data.name)
+        want = segments(gltf, mesh_of_node[o.name])
+        lines += want > 0
+        check(loose_edges(o.data) == want, "%s: mesh %s has %d loose edges for %d line segments"
+              % (path, o.data.name, loose_edges(o.data), want))
+    check(lines > 0, "%s: %d meshes with line segments" % (path, lines))
 
 
 def clear():
@@ -83,6 +111,7 @@ def check_file(path):
     have = sorted(bpy.data.meshes[d].users for d in datablocks)
     check(want == have, "%s: objects per shared mesh %s (file) == users per datablock %s (Blender)"
           % (path, want[-5:], have[-5:]))
+    check_lines(path, gltf, mesh_nodes)
     names = textured_materials(gltf)
     for name in sorted(names):
         mat = bpy.data.materials.get(name)
