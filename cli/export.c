@@ -34,14 +34,14 @@ int cmd_export(int argc, char **argv)
         "Writes the scene's geometry and materials as glTF 2.0 (through Assimp), for Blender, game engines\n"
         "and web viewers: each distinct feather's vane, rachis and fluff once, each placed feather a node\n"
         "referring to them with its transform, the body and surface meshes, texture coordinates and normals,\n"
-        "under a root node that turns the scene's up axis (its camera's) into glTF's +y. The fluff's fibers\n"
-        "go out as line segments (no width: glTF lines have none) coloured by the fiber's far field, or not\n"
-        "at all with --no-fluff. Each feather material's\n"
-        "base colour is a texture baked from plumage's own BSDF under uniform white light (the colour of\n"
-        "plumage's render at a distance), times the pigment and the mean tint of its feathers, with the\n"
-        "vane's transparency as alpha; its orientation texture goes along in an unlit material NAME.orientation.\n"
-        ".glb embeds everything; .gltf writes OUT.bin and OUT.MATERIAL.albedo.png / .orientation.png beside\n"
-        "it. Lights and the camera are not exported. docs/assets.md describes the file."};
+        "under a root node that turns the scene's up axis (its camera's) into glTF's +y. Each feather\n"
+        "material's base colour is a texture baked from plumage's own BSDF under uniform white light (the\n"
+        "colour of plumage's render at a distance), times the pigment and the mean tint of its feathers,\n"
+        "with the vane's transparency as alpha; its orientation texture goes along in an unlit material\n"
+        "NAME.orientation. The fluff's fibers go out as line segments (glTF lines have no width) coloured\n"
+        "by the fiber's far field, or not at all with --no-fluff. .glb embeds everything; .gltf writes\n"
+        "OUT.bin and OUT.MATERIAL.albedo.png / .orientation.png beside it. Lights and the camera are not\n"
+        "exported. docs/assets.md describes the file."};
     const char *positional[1];
     int n_positional = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), positional, 1,
