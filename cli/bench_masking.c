@@ -30,6 +30,7 @@ enum { TIME_FAR, TIME_NEAR, TIME_NEARFIELD_AT, TIME_FEATHER_MASKING, TIME_FEATHE
 typedef struct bench_ctx {
     plm_masking_model model;
     plm_feather_params feather;
+    plm_feather_model prepared; /* of feather */
     plm_feather_texture texture;
     frame barb; /* a tilted barb frame in world space */
     plm_rng rng;
@@ -62,11 +63,11 @@ static void body(void *arg, long calls)
                                                  v3(0.0, 0.0, 1.0), c->rays[k], CONE_WIDTH);
             acc += w.x1 - w.x0;
         } else if (c->what == TIME_FEATHER_MASKING) {
-            plm_feather_masking(&c->feather, &c->barb, &far_field, wo, &m);
+            plm_feather_masking(&c->prepared, &c->barb, &far_field, wo, &m);
             acc += m.w_transmission;
         } else {
             plm_feather_bsdf f;
-            plm_feather_prepare_masked(&c->feather, &c->barb, wo, &c->kept[k], rgb_gray(1.0), &c->rng, &f);
+            plm_feather_prepare_masked(&c->prepared, &c->barb, wo, &c->kept[k], rgb_gray(1.0), &c->rng, &f);
             acc += f.weight[0] + f.pick[1];
         }
     }
@@ -110,15 +111,15 @@ static plm_result prepare_feather(bench_ctx *c, plm_error *err)
     plm_feather_params_default(&c->feather);
     c->feather.masking.barbule_length = 3.0;
     c->feather.masking.barbule_inclination = plm_radians(45.0);
-    plm_feather_params_prepare_masking(&c->feather);
-    plm_result rc = plm_feather_params_build_tables(&c->feather, NULL, err);
+    plm_feather_model_init(&c->prepared, &c->feather);
+    plm_result rc = plm_feather_model_build_tables(&c->prepared, NULL, err);
     if (rc != PLM_OK)
         return rc;
     c->barb.y = v3_normalize(v3(0.3, 0.9, 0.2));
     c->barb.z = v3_normalize(v3_cross(c->barb.y, v3(1.0, 0.0, 0.0)));
     c->barb.x = v3_cross(c->barb.y, c->barb.z);
     for (int i = 0; i < DIRECTIONS; ++i)
-        plm_feather_masking(&c->feather, &c->barb, &far_field, c->dirs[i], &c->kept[i]);
+        plm_feather_masking(&c->prepared, &c->barb, &far_field, c->dirs[i], &c->kept[i]);
     return vane_texture(&c->texture, err);
 }
 
@@ -153,7 +154,7 @@ int bench_masking(int argc, char **argv)
     plm_error err;
     if (prepare_feather(c, &err) != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);
-        plm_feather_params_free_tables(&c->feather);
+        plm_feather_model_free_tables(&c->prepared);
         free(c);
         return 1;
     }
@@ -189,7 +190,7 @@ int bench_masking(int argc, char **argv)
            "  %8.1f ns per plm_feather_masking (filter candidate, far field)\n"
            "  %8.1f ns per plm_feather_prepare_masked (shading point, masking kept from the filter)\n",
            ns_window, ns_masking, ns_prepare);
-    plm_feather_params_free_tables(&c->feather);
+    plm_feather_model_free_tables(&c->prepared);
     plm_feather_texture_free(&c->texture);
     free(c);
     return 0;

@@ -27,7 +27,8 @@ static int vane_uv(const plm_feather_texture *t, vec2 *uv)
 
 /* A far-field hit on the plane z = 0 at a vane texel, without the pigment
  * (the caller scales by it texel by texel) and with a white tint. */
-static plm_result plane_hit(const plm_material *m, plm_material *plain, plm_hit *h, plm_error *err)
+static plm_result plane_hit(const plm_material *m, const plm_prepared_material *p, plm_material *plain, plm_hit *h,
+                            plm_error *err)
 {
     *plain = *m;
     plain->pigment.pixels = NULL;
@@ -37,6 +38,7 @@ static plm_result plane_hit(const plm_material *m, plm_material *plain, plm_hit 
     h->dpdv = v3(0, 1, 0);
     h->tint = rgb_gray(1.0);
     h->material = plain;
+    h->prepared = p;
     h->uv = v2(0.5, 0.5);
     if (m->type == PLM_MATERIAL_FEATHER && !vane_uv(&m->texture, &h->uv))
         return plm_fail(err, PLM_ERR_INVALID, "material %s: its feather texture has no vane texel", m->name);
@@ -50,12 +52,12 @@ typedef struct furnace {
     plm_bsdf *bsdf; /* 50 KiB: on the heap */
 } furnace;
 
-static plm_result furnace_open(furnace *f, const plm_material *m, plm_error *err)
+static plm_result furnace_open(furnace *f, const plm_material *m, const plm_prepared_material *p, plm_error *err)
 {
     f->bsdf = malloc(sizeof *f->bsdf);
     if (!f->bsdf)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "material %s: out of memory", m->name);
-    plm_result rc = plane_hit(m, &f->plain, &f->hit, err);
+    plm_result rc = plane_hit(m, p, &f->plain, &f->hit, err);
     if (rc != PLM_OK)
         free(f->bsdf);
     return rc;
@@ -78,11 +80,11 @@ static double furnace_view(furnace *f, vec3 wo, int n, plm_rng *rng, rgb *albedo
     return wt;
 }
 
-plm_result plm_bake_view_at(const plm_material *m, vec3 wo, int samples, uint64_t seed, plm_bake_view *out,
-                            plm_error *err)
+plm_result plm_bake_view_at(const plm_material *m, const plm_prepared_material *p, vec3 wo, int samples,
+                            uint64_t seed, plm_bake_view *out, plm_error *err)
 {
     furnace f;
-    plm_result rc = furnace_open(&f, m, err);
+    plm_result rc = furnace_open(&f, m, p, err);
     if (rc != PLM_OK)
         return rc;
     plm_rng rng;
@@ -120,8 +122,8 @@ static vec3 bake_view(const plm_material *m, int i, int k, plm_rng *rng, double 
     return wo;
 }
 
-plm_result plm_bake_albedo_of(const plm_material *m, const plm_bake_options *o, plm_bake_albedo *out,
-                              plm_error *err)
+plm_result plm_bake_albedo_of(const plm_material *m, const plm_prepared_material *p, const plm_bake_options *o,
+                              plm_bake_albedo *out, plm_error *err)
 {
     if (m->type != PLM_MATERIAL_FEATHER && m->type != PLM_MATERIAL_FIBER) {
         *out = (plm_bake_albedo){m->reflectance, 1.0 - m->transmission, 0.0};
@@ -129,7 +131,7 @@ plm_result plm_bake_albedo_of(const plm_material *m, const plm_bake_options *o, 
     }
     int k = o->views > 0 ? o->views : 24, n = o->samples > 0 ? o->samples : 64;
     furnace f;
-    plm_result rc = furnace_open(&f, m, err);
+    plm_result rc = furnace_open(&f, m, p, err);
     if (rc != PLM_OK)
         return rc;
     plm_rng rng;

@@ -27,6 +27,7 @@
 
 #include "common/error.h"
 #include "common/vec.h"
+#include "render/material.h"
 #include "render/scene.h"
 
 /* The furnace seen from one direction. */
@@ -52,15 +53,16 @@ typedef struct plm_bake_options {
 
 /* L(wo) of the material on a plane with normal +z (u along +x, v along +y)
  * at a vane texel of its texture; a diffuse material is the same everywhere.
- * wo unit. A feather material's fiber tables are used if built
- * (plm_feather_params_build_tables), else its stochastic estimator. */
-plm_result plm_bake_view_at(const plm_material *m, vec3 wo, int samples, uint64_t seed, plm_bake_view *out,
-                            plm_error *err);
+ * wo unit. p is what m derives (plm_material_prepare): a feather material's
+ * fiber tables are used if built (plm_material_prepare_tables), else its
+ * stochastic estimator. */
+plm_result plm_bake_view_at(const plm_material *m, const plm_prepared_material *p, vec3 wo, int samples,
+                            uint64_t seed, plm_bake_view *out, plm_error *err);
 
-/* C and a as above (a fiber: a = 1). A fiber material's table is used if
- * built, else its stochastic estimator. For a diffuse or coat material: its
+/* C and a as above (a fiber: a = 1), with p as for plm_bake_view_at: a fiber
+ * material's table is used if built, else its stochastic estimator. For a diffuse or coat material: its
  * reflectance and 1 - its transmission. */
-plm_result plm_bake_albedo_of(const plm_material *m, const plm_bake_options *o, plm_bake_albedo *out,
-                              plm_error *err);
+plm_result plm_bake_albedo_of(const plm_material *m, const plm_prepared_material *p, const plm_bake_options *o,
+                              plm_bake_albedo *out, plm_error *err);
 
 #endif

@@ -47,7 +47,7 @@ void plm_gltf_root_matrix(const plm_scene *scene, double m[3][4])
 
 /* What is being built, with what it owns. */
 typedef struct builder {
-    plm_scene *scene;
+    const plm_scene *scene;
     const plm_gltf_options *o;
     const char *path;
     plm_asset a;
@@ -254,25 +254,6 @@ static plm_result bake_texture(builder *b, const plm_material *m, const plm_bake
     return rc;
 }
 
-/* The feather's fiber tables, as rendering builds them (render/world.c). */
-static plm_result prepare_feather(builder *b, plm_material *m, plm_error *err)
-{
-    if (m->shares_feather)
-        return PLM_OK;
-    plm_feather_params_prepare_masking(m->feather);
-    plm_fiber_table_options tables = {.threads = b->o->table_threads, .budget_mib = b->scene->film.fiber_table_mib};
-    return plm_feather_params_build_tables(m->feather, &tables, err);
-}
-
-/* A fluff fiber's table, as rendering builds it (render/world.c). */
-static plm_result prepare_fiber(builder *b, plm_fiber_material *f, plm_error *err)
-{
-    if (f->stochastic || f->table)
-        return PLM_OK;
-    plm_fiber_table_options table = {.threads = b->o->table_threads, .budget_mib = b->scene->film.fiber_table_mib};
-    return plm_fiber_table_get(&f->fiber, &table, &f->table, err);
-}
-
 /* What a material's far field depends on beyond itself: its feather or
  * fiber parameters, which variants of a species share (NULL: none). */
 static const void *optics_of(const plm_material *m)
@@ -282,29 +263,26 @@ static const void *optics_of(const plm_material *m)
                                            : NULL;
 }
 
-/* The albedo of m, baked once per feather or fiber optics (variants share theirs). */
+/* The albedo of m, baked once per feather or fiber optics (variants share
+ * theirs), with the fiber tables rendering would build (render/world.c). */
 static plm_result albedo_of(builder *b, int mi, plm_bake_albedo *baked, const void **done, plm_bake_albedo *out,
                             plm_error *err)
 {
-    plm_material *m = &b->scene->materials[mi];
+    const plm_material *m = &b->scene->materials[mi];
     const void *optics = optics_of(m);
     for (int j = 0; j < mi; ++j)
         if (optics && done[j] == optics) {
             *out = baked[j];
             return PLM_OK;
         }
-    plm_result rc = m->type == PLM_MATERIAL_FEATHER ? prepare_feather(b, m, err)
-                    : m->type == PLM_MATERIAL_FIBER ? prepare_fiber(b, m->fiber, err)
-                                                    : PLM_OK;
+    plm_prepared_material prepared;
+    plm_material_prepare(m, &prepared);
+    plm_fiber_table_options tables = {.threads = b->o->table_threads, .budget_mib = b->scene->film.fiber_table_mib};
+    plm_result rc = plm_material_prepare_tables(m, &tables, &prepared, err);
     if (rc == PLM_OK)
-        rc = plm_bake_albedo_of(m, &b->o->bake, out, err);
+        rc = plm_bake_albedo_of(m, &prepared, &b->o->bake, out, err);
     /* Tens of MiB per optics, needed for nothing else here: one set at a time. */
-    if (m->type == PLM_MATERIAL_FEATHER)
-        plm_feather_params_free_tables(m->feather);
-    if (m->type == PLM_MATERIAL_FIBER) {
-        plm_fiber_table_free(m->fiber->table);
-        m->fiber->table = NULL;
-    }
+    plm_prepared_material_free(&prepared);
     baked[mi] = *out;
     done[mi] = optics;
     return rc;
@@ -372,7 +350,8 @@ static void use_materials(builder *b)
     }
 }
 
-static plm_result builder_init(builder *b, plm_scene *s, const char *path, const plm_gltf_options *o, plm_error *err)
+static plm_result builder_init(builder *b, const plm_scene *s, const char *path, const plm_gltf_options *o,
+                               plm_error *err)
 {
     memset(b, 0, sizeof *b);
     b->scene = s, b->path = path, b->o = o;
@@ -420,7 +399,7 @@ static void builder_free(builder *b)
     free(b->line_indices);
 }
 
-plm_result plm_gltf_export(plm_scene *scene, const char *path, const plm_gltf_options *o, plm_gltf_report *report,
+plm_result plm_gltf_export(const plm_scene *scene, const char *path, const plm_gltf_options *o, plm_gltf_report *report,
                            plm_error *err)
 {
     plm_gltf_report r = {0};

@@ -36,9 +36,9 @@ typedef struct plm_gltf_report {
 
 /* Writes path (.glb, or .gltf with NAME.bin and NAME.MATERIAL.*.png beside
  * it). The bake builds (or reads from the cache) each feather optics' fiber
- * tables as rendering does, and frees them once baked, so the scene is not
- * const and is left without tables. report may be NULL. */
-plm_result plm_gltf_export(plm_scene *scene, const char *path, const plm_gltf_options *o, plm_gltf_report *report,
+ * tables as rendering does, one optics at a time, and frees them once baked.
+ * report may be NULL. */
+plm_result plm_gltf_export(const plm_scene *scene, const char *path, const plm_gltf_options *o, plm_gltf_report *report,
                            plm_error *err);
 
 /* The root node's transform: a rotation taking the scene's up axis (its

@@ -12,29 +12,32 @@ void plm_feather_params_default(plm_feather_params *p)
     p->barb.sigma_a = p->barbule.sigma_a = rgb_make(0.133, 1.967, 2.1); /* paper Fig. 7 */
     p->barb.medulla_a = p->barb.medulla_b = 0.6;
     plm_masking_params_default(&p->masking);
-    plm_feather_params_prepare_masking(p);
     p->bcsdf = PLM_BCSDF_TABULATED;
-    p->table[0] = p->table[1] = NULL;
 }
 
-void plm_feather_params_prepare_masking(plm_feather_params *p) { plm_masking_prepare(&p->masking, &p->masking_model); }
-
-plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err)
+void plm_feather_model_init(plm_feather_model *m, const plm_feather_params *p)
 {
-    const plm_fiber_params *fiber[2] = {&p->barb, &p->barbule};
-    for (int k = 0; k < 2 && p->bcsdf == PLM_BCSDF_TABULATED; ++k) {
-        plm_result rc = p->table[k] ? PLM_OK : plm_fiber_table_get(fiber[k], o, &p->table[k], err);
+    m->params = p;
+    plm_masking_prepare(&p->masking, &m->masking);
+    m->table[0] = m->table[1] = NULL;
+}
+
+plm_result plm_feather_model_build_tables(plm_feather_model *m, const plm_fiber_table_options *o, plm_error *err)
+{
+    const plm_fiber_params *fiber[2] = {&m->params->barb, &m->params->barbule};
+    for (int k = 0; k < 2 && m->params->bcsdf == PLM_BCSDF_TABULATED; ++k) {
+        plm_result rc = m->table[k] ? PLM_OK : plm_fiber_table_get(fiber[k], o, &m->table[k], err);
         if (rc != PLM_OK)
             return rc;
     }
     return PLM_OK;
 }
 
-void plm_feather_params_free_tables(plm_feather_params *p)
+void plm_feather_model_free_tables(plm_feather_model *m)
 {
     for (int k = 0; k < 2; ++k) {
-        plm_fiber_table_free(p->table[k]);
-        p->table[k] = NULL;
+        plm_fiber_table_free(m->table[k]);
+        m->table[k] = NULL;
     }
 }
 
@@ -78,22 +81,23 @@ int plm_feather_barb_frame(vec3 n, vec3 dpdu, vec3 dpdv, vec2 direction_uv, fram
     return 1;
 }
 
-void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
+void plm_feather_masking(const plm_feather_model *m, const frame *barb, const plm_barb_window *window, vec3 w,
                          plm_masking *out)
 {
-    /* The prepared masking must be the material's own: a stale one would mask
-     * with other parameters than the scene's. */
-    assert(memcmp(&p->masking, &p->masking_model.params, sizeof p->masking) == 0);
-    plm_masking_eval_window(&p->masking_model, frame_to_local(barb, w), window, out);
+    /* The prepared masking must be of the parameters as they are now: a stale
+     * one would mask with other parameters than the scene's. */
+    assert(memcmp(&m->params->masking, &m->masking.params, sizeof m->masking.params) == 0);
+    plm_masking_eval_window(&m->masking, frame_to_local(barb, w), window, out);
 }
 
 /* Component index of the barb's visible range i. */
 static int barb_component(int i) { return i == 0 ? PLM_FEATHER_BARB : PLM_FEATHER_DISTAL + i; }
 
-void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
-                                rgb tint, plm_rng *rng, plm_feather_bsdf *out)
+void plm_feather_prepare_masked(const plm_feather_model *model, const frame *barb, vec3 wo,
+                                const plm_masking *masking, rgb tint, plm_rng *rng, plm_feather_bsdf *out)
 {
-    out->params = p;
+    const plm_feather_params *p = model->params;
+    out->model = model;
     out->tint = tint;
     plm_masking *m = &out->masking;
     *m = *masking;
@@ -121,7 +125,7 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
     out->weight[PLM_FEATHER_DISTAL] = m->w_distal * scale;
     /* A barbule frame serves only a set with weight (eval and sampling skip
      * the others), and most views see one barbule set or none. */
-    const plm_barbule_frame *bb[2] = {&p->masking_model.proximal, &p->masking_model.distal};
+    const plm_barbule_frame *bb[2] = {&model->masking.proximal, &model->masking.distal};
     for (int j = 0; j < 2; ++j) {
         int k = PLM_FEATHER_PROXIMAL + j;
         out->fiber[k] = &p->barbule;
@@ -134,7 +138,7 @@ void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, 
     }
     for (int k = 0; k < out->count; ++k) {
         out->bcsdf[k].total = 0.0;
-        const plm_fiber_table *table = p->table[out->fiber[k] == &p->barb ? 0 : 1];
+        const plm_fiber_table *table = model->table[out->fiber[k] == &p->barb ? 0 : 1];
         if (out->weight[k] > 0.0)
             plm_fiber_bcsdf_prepare(out->fiber[k], p->bcsdf == PLM_BCSDF_TABULATED ? table : NULL,
                                     frame_to_local(&out->fiber_frame[k], wo), range[k]->hmin, range[k]->hmax, rng,

@@ -27,17 +27,12 @@ typedef enum plm_bcsdf_kind {
     PLM_BCSDF_STOCHASTIC = 1  /* one traced lobe set per shading point (the paper's estimator) */
 } plm_bcsdf_kind;
 
+/* A feather material's optics as a scene describes them. */
 typedef struct plm_feather_params {
     plm_fiber_params barb;    /* in the barb frame: axis t, e2 = b, e3 = n */
     plm_fiber_params barbule; /* in each barbule set's frame: axis, e2 = r1, e3 = r2 (docs/masking.md) */
     plm_masking_params masking;
-    /* The masking's view-independent part (frames, trigonometry), derived
-     * from `masking` once per material by plm_feather_params_prepare_masking. */
-    plm_masking_model masking_model;
     plm_bcsdf_kind bcsdf;
-    /* Tables of the barb and the barbule fiber, owned; NULL until
-     * plm_feather_params_build_tables (the stochastic estimator serves until then). */
-    plm_fiber_table *table[2];
 } plm_feather_params;
 
 /* Barb: the fiber defaults with the paper's Fig. 7 absorption (0.133, 1.967, 2.1)
@@ -45,13 +40,24 @@ typedef struct plm_feather_params {
  * (no medulla) with the same absorption; masking: its defaults. */
 void plm_feather_params_default(plm_feather_params *p);
 plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err);
-/* Derives masking_model from masking: call it after changing `masking`
- * (plm_feather_params_default and plm_world_build do). */
-void plm_feather_params_prepare_masking(plm_feather_params *p);
-/* Gets the fiber tables if the estimator is tabulated (a no-op if they are
- * there); plm_world_build calls it for every feather material. */
-plm_result plm_feather_params_build_tables(plm_feather_params *p, const plm_fiber_table_options *o, plm_error *err);
-void plm_feather_params_free_tables(plm_feather_params *p);
+
+/* What shading derives from a feather's parameters, kept apart from them so
+ * that a description stays one: the masking's view-independent part (frames,
+ * trigonometry) and the fiber tables. Whoever renders owns it (the render
+ * world: render/material.h); the parameters must outlive it. */
+typedef struct plm_feather_model {
+    const plm_feather_params *params;
+    plm_masking_model masking;
+    /* Tables of the barb and the barbule fiber, owned; NULL until
+     * plm_feather_model_build_tables (the stochastic estimator serves until then). */
+    plm_fiber_table *table[2];
+} plm_feather_model;
+
+/* Prepares the masking of p, without tables. */
+void plm_feather_model_init(plm_feather_model *m, const plm_feather_params *p);
+/* Gets the fiber tables if the estimator is tabulated (a no-op if they are there). */
+plm_result plm_feather_model_build_tables(plm_feather_model *m, const plm_fiber_table_options *o, plm_error *err);
+void plm_feather_model_free_tables(plm_feather_model *m);
 
 /* The barb frame (docs/masking.md) at a vane point, as a frame with x = b, y = n,
  * z = t: t = the texture's direction (cos a dP/du + sin a dP/dv) projected
@@ -67,7 +73,7 @@ enum { PLM_FEATHER_BARB = 0, PLM_FEATHER_PROXIMAL = 1, PLM_FEATHER_DISTAL = 2 };
 /* The BSDF prepared for one view direction wo: the masking, the fiber
  * frames in world space and a prepared BCSDF per component. */
 typedef struct plm_feather_bsdf {
-    const plm_feather_params *params;
+    const plm_feather_model *model;
     int count;                 /* components: 3 + the barb's visible ranges beyond the first */
     frame fiber_frame[PLM_FEATHER_COMPONENTS]; /* x = e2, y = e3, z = fiber axis, in world space; set where
                                                   weight > 0 */
@@ -83,13 +89,13 @@ typedef struct plm_feather_bsdf {
 /* The masking seen from w (world space, the barb frame as above) over the
  * part of the barb period a pixel covers (docs/nearfield.md), NULL for the
  * far field. */
-void plm_feather_masking(const plm_feather_params *p, const frame *barb, const plm_barb_window *window, vec3 w,
+void plm_feather_masking(const plm_feather_model *m, const frame *barb, const plm_barb_window *window, vec3 w,
                          plm_masking *out);
 /* Prepares for wo (world space) given its masking (plm_feather_masking): a
  * BCSDF per fiber over its visible h-range, and one for the barb over each
  * of its visible ranges, weighted by the range's rate (rng drives only the
  * stochastic estimator's lobe sets). */
-void plm_feather_prepare_masked(const plm_feather_params *p, const frame *barb, vec3 wo, const plm_masking *masking,
+void plm_feather_prepare_masked(const plm_feather_model *m, const frame *barb, vec3 wo, const plm_masking *masking,
                                 rgb tint, plm_rng *rng, plm_feather_bsdf *out);
 
 /* f_s |wi.n| / (1 - w_t(wo)), see the top of this file. */

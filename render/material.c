@@ -6,6 +6,8 @@
 #include "optics/nearfield.h"
 #include "common/sampling.h"
 
+#include <string.h>
+
 _Static_assert(sizeof(plm_feather_bsdf) <= PLM_BSDF_STATE_BYTES, "plm_bsdf.state must hold a feather BSDF");
 
 static double diffuse_pdf(const plm_bsdf *b, vec3 wi)
@@ -124,9 +126,33 @@ static void fiber_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
     fiber_state *f = (fiber_state *)out->state;
     f->axis = frame_from_z(hit->dpdu);
     f->tint = hit->tint;
-    plm_fiber_bcsdf_prepare(&m->fiber, m->stochastic ? NULL : m->table, frame_to_local(&f->axis, wo), -1.0, 1.0, rng,
+    plm_fiber_bcsdf_prepare(&m->fiber, hit->prepared->fiber_table, frame_to_local(&f->axis, wo), -1.0, 1.0, rng,
                             &f->bcsdf);
     out->ops = &fiber_ops;
+}
+
+void plm_material_prepare(const plm_material *m, plm_prepared_material *out)
+{
+    memset(out, 0, sizeof *out);
+    if (m->feather)
+        plm_feather_model_init(&out->feather, m->feather);
+}
+
+plm_result plm_material_prepare_tables(const plm_material *m, const plm_fiber_table_options *o,
+                                       plm_prepared_material *p, plm_error *err)
+{
+    if (m->feather)
+        return plm_feather_model_build_tables(&p->feather, o, err);
+    if (m->fiber && !m->fiber->stochastic && !p->fiber_table)
+        return plm_fiber_table_get(&m->fiber->fiber, o, &p->fiber_table, err);
+    return PLM_OK;
+}
+
+void plm_prepared_material_free(plm_prepared_material *p)
+{
+    plm_feather_model_free_tables(&p->feather);
+    plm_fiber_table_free(p->fiber_table);
+    p->fiber_table = NULL;
 }
 
 /* (1 - w) white + w c */
@@ -188,7 +214,7 @@ double plm_material_transmission(const plm_hit *hit, vec3 w)
     if (!hit->on_vane)
         return 0.0;
     plm_masking masking;
-    plm_feather_masking(m->feather, &hit->barb, &hit->window, w, &masking);
+    plm_feather_masking(&hit->prepared->feather, &hit->barb, &hit->window, w, &masking);
     return masking.w_transmission;
 }
 
@@ -197,7 +223,7 @@ double plm_material_transmission_keep(plm_hit *hit, vec3 w)
     const plm_material *m = hit->material;
     if (m->type != PLM_MATERIAL_FEATHER || !hit->on_vane)
         return plm_material_transmission(hit, w);
-    plm_feather_masking(m->feather, &hit->barb, &hit->window, w, &hit->masking);
+    plm_feather_masking(&hit->prepared->feather, &hit->barb, &hit->window, w, &hit->masking);
     hit->has_masking = 1;
     hit->masking_w = w;
     return hit->masking.w_transmission;
@@ -220,9 +246,9 @@ void plm_material_bsdf(const plm_hit *hit, vec3 wo, plm_rng *rng, plm_bsdf *out)
                     hit->masking_w.z == wo.z;
         plm_masking own; /* over the hit's window (docs/nearfield.md) */
         if (!known)
-            plm_feather_masking(m->feather, &hit->barb, &hit->window, wo, &own);
-        plm_feather_prepare_masked(m->feather, &hit->barb, wo, known ? &hit->masking : &own, hit->tint, rng,
-                                   (plm_feather_bsdf *)out->state);
+            plm_feather_masking(&hit->prepared->feather, &hit->barb, &hit->window, wo, &own);
+        plm_feather_prepare_masked(&hit->prepared->feather, &hit->barb, wo, known ? &hit->masking : &own, hit->tint,
+                                   rng, (plm_feather_bsdf *)out->state);
         out->ops = &feather_ops;
     }
 }

@@ -18,8 +18,25 @@
 #include "common/rng.h"
 #include "common/vec.h"
 #include "optics/bsdf.h"
+#include "optics/feather_bsdf.h"
 #include "optics/masking.h"
 #include "render/scene.h"
+
+/* What rendering derives from a material's description (render/scene.h),
+ * kept apart from it so that the scene stays a description: a feather's
+ * prepared masking and fiber tables, a fiber's table. The render world
+ * prepares one for each material that owns its optics (plm_world_build). */
+typedef struct plm_prepared_material {
+    plm_feather_model feather;    /* feather only */
+    plm_fiber_table *fiber_table; /* fiber only; NULL: the stochastic estimator */
+} plm_prepared_material;
+
+/* m's prepared feather masking, without tables. */
+void plm_material_prepare(const plm_material *m, plm_prepared_material *out);
+/* Adds the fiber tables m's estimator needs (none for the stochastic one). */
+plm_result plm_material_prepare_tables(const plm_material *m, const plm_fiber_table_options *o,
+                                       plm_prepared_material *p, plm_error *err);
+void plm_prepared_material_free(plm_prepared_material *p);
 
 /* What a material needs to know about the surface at a hit, in world space. */
 typedef struct plm_hit {
@@ -30,6 +47,7 @@ typedef struct plm_hit {
     vec2 uv;
     rgb tint;        /* per-instance colour variation */
     const plm_material *material;
+    const plm_prepared_material *prepared; /* the material's (plm_world_build) */
     /* The pixel cone that found the hit: its width at p (world units; 0 for
      * none: after a scattering event, in shadow queries, with
      * film.far_field) and the ray direction. */

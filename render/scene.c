@@ -99,15 +99,11 @@ void plm_scene_free(plm_scene *scene)
         plm_curves_free(&scene->meshes[i].curves);
     }
     for (int i = 0; i < scene->material_count; ++i) {
-        if (scene->materials[i].fiber && !scene->materials[i].shares_fiber) {
-            plm_fiber_table_free(scene->materials[i].fiber->table);
+        if (!scene->materials[i].shares_fiber)
             free(scene->materials[i].fiber);
-        }
         plm_feather_texture_free(&scene->materials[i].texture);
-        if (scene->materials[i].feather && !scene->materials[i].shares_feather) {
-            plm_feather_params_free_tables(scene->materials[i].feather);
+        if (!scene->materials[i].shares_feather)
             free(scene->materials[i].feather);
-        }
         free(scene->materials[i].pigment.pixels);
     }
     free(scene->lights);

@@ -92,14 +92,11 @@ typedef enum plm_material_type {
 } plm_material_type;
 
 struct plm_feather_params; /* optics/feather_bsdf.h */
-struct plm_fiber_table;    /* optics/fiber_table.h */
 
-/* A fiber material's fiber and its table (plm_world_build gets it; NULL
- * until then, and with the stochastic estimator). */
+/* A fiber material's fiber (its table is the render world's: render/material.h). */
 typedef struct plm_fiber_material {
     plm_fiber_params fiber;
     int stochastic; /* 1: the stochastic estimator instead of the table (docs/fiber.md) */
-    struct plm_fiber_table *table;
 } plm_fiber_material;
 
 typedef struct plm_material {
@@ -112,7 +109,7 @@ typedef struct plm_material {
     plm_feather_texture texture;             /* feather only */
     struct plm_feather_params *feather;      /* feather only, malloc'd */
     int shares_feather; /* feather belongs to an earlier material: feathers of one species share their
-                           optics and so their fiber tables (tens of MB each) */
+                           optics and so their fiber tables (tens of MB each; the render world's) */
     plm_fiber_material *fiber; /* fiber only, malloc'd */
     int shares_fiber;          /* fiber belongs to an earlier material, as shares_feather */
     /* Feather only: the generator's pigment image (channels in

@@ -390,6 +390,49 @@ void plm_camera_ray(const plm_camera *c, double x, double y, double u1, double u
 
 static plm_result choose_lights(plm_world *w, plm_error *err);
 
+/* The earlier material whose feather or fiber parameters material i shares
+ * (feathers of one species share their optics), else i itself. */
+static int optics_owner(const plm_scene *s, int i)
+{
+    const plm_material *m = &s->materials[i];
+    for (int j = 0; j < i; ++j) {
+        const plm_material *o = &s->materials[j];
+        if ((m->shares_feather && o->feather == m->feather && !o->shares_feather) ||
+            (m->shares_fiber && o->fiber == m->fiber && !o->shares_fiber))
+            return j;
+    }
+    return i;
+}
+
+/* What rendering derives from each material, once per set of optics: the
+ * feathers' prepared masking (docs/masking.md) and fiber tables (built once,
+ * cached on disk; docs/fiber.md), and the tables of the fibers that
+ * instances use. The scene is not touched. */
+static plm_result prepare_materials(plm_world *w, plm_error *err)
+{
+    const plm_scene *s = w->scene;
+    size_t n = (size_t)s->material_count + 1;
+    w->prepared = calloc(n, sizeof *w->prepared);
+    w->prepared_of = calloc(n, sizeof *w->prepared_of);
+    char *used = calloc(n, 1);
+    plm_result rc = w->prepared && w->prepared_of && used ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
+    for (int i = 0; i < s->instance_count && rc == PLM_OK; ++i)
+        used[s->instances[i].material] = 1;
+    const plm_fiber_table_options tables = {.budget_mib = s->film.fiber_table_mib};
+    for (int i = 0; i < s->material_count && rc == PLM_OK; ++i) {
+        const plm_material *m = &s->materials[i];
+        int owner = optics_owner(s, i);
+        plm_prepared_material *p = &w->prepared[owner];
+        if (owner == i)
+            plm_material_prepare(m, p);
+        w->prepared_of[i] = p;
+        if (m->feather || (m->fiber && used[i]))
+            rc = plm_material_prepare_tables(&s->materials[owner], &tables, p, err);
+    }
+    free(used);
+    return rc;
+}
+
 plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
 {
     memset(w, 0, sizeof *w);
@@ -408,28 +451,11 @@ plm_result plm_world_build(const plm_scene *scene, plm_world *w, plm_error *err)
                          fmax(fmax(fabs(w->bounds_min.y), fabs(w->bounds_max.y)),
                               fmax(fabs(w->bounds_min.z), fabs(w->bounds_max.z))));
     w->epsilon = 1e-5 * fmax(1.0, extent); /* well above float rounding at that magnitude */
-    for (int i = 0; i < scene->material_count; ++i) {
+    for (int i = 0; i < scene->material_count; ++i)
         w->transmissive |= material_transmits(&scene->materials[i]);
-        /* The feathers' fiber tables (built once, cached on disk; docs/fiber.md)
-         * and prepared masking (docs/masking.md). */
-        plm_feather_params *f = scene->materials[i].feather;
-        if (f)
-            plm_feather_params_prepare_masking(f);
-        const plm_fiber_table_options tables = {.budget_mib = scene->film.fiber_table_mib};
-        if (f && (rc = plm_feather_params_build_tables(f, &tables, err)) != PLM_OK) {
-            plm_world_free(w);
-            return rc;
-        }
-    }
-    /* The fibers' tables, of the materials instances use (shared ones get theirs once). */
-    const plm_fiber_table_options fiber_tables = {.budget_mib = scene->film.fiber_table_mib};
-    for (int i = 0; i < scene->instance_count; ++i) {
-        plm_fiber_material *fm = scene->materials[scene->instances[i].material].fiber;
-        if (fm && !fm->stochastic && !fm->table &&
-            (rc = plm_fiber_table_get(&fm->fiber, &fiber_tables, &fm->table, err)) != PLM_OK) {
-            plm_world_free(w);
-            return rc;
-        }
+    if ((rc = prepare_materials(w, err)) != PLM_OK) {
+        plm_world_free(w);
+        return rc;
     }
     w->lights = calloc((size_t)scene->light_count + 1, sizeof *w->lights);
     if (!w->lights) {
@@ -504,6 +530,10 @@ void plm_world_free(plm_world *w)
     }
     free(w->prototypes);
     free(w->instance_prototype);
+    for (int i = 0; w->prepared && i < w->scene->material_count; ++i)
+        plm_prepared_material_free(&w->prepared[i]);
+    free(w->prepared);
+    free(w->prepared_of);
     plm_embree_close(&w->embree);
     memset(w, 0, sizeof *w);
 }
@@ -569,6 +599,7 @@ static void fill_hit(const plm_world *w, unsigned inst, unsigned prim, double b1
     }
     hit->tint = in->tint;
     hit->material = &w->scene->materials[in->material];
+    hit->prepared = w->prepared_of[in->material];
     hit->cone_width = cone_width;
     hit->ray_dir = d;
     plm_material_surface_at(hit, site);
@@ -597,6 +628,7 @@ static void fill_curve_hit(const plm_world *w, unsigned inst, unsigned first, do
     hit->uv = v2(u, 0.0);
     hit->tint = in->tint;
     hit->material = &w->scene->materials[in->material];
+    hit->prepared = w->prepared_of[in->material];
     hit->cone_width = cone_width;
     hit->ray_dir = d;
     plm_material_surface_at(hit, NULL);

@@ -61,6 +61,11 @@ typedef struct plm_world {
     vec3 bounds_min, bounds_max;
     double epsilon;          /* ray offset, scaled to the scene */
     int transmissive;        /* some material lets light pass straight (shadow rays must look through it) */
+    /* Per scene material: what rendering derives from it (render/material.h),
+     * empty where the material shares an earlier one's optics; prepared_of
+     * points to its own or that earlier one's. */
+    plm_prepared_material *prepared;
+    const plm_prepared_material **prepared_of;
 } plm_world;
 
 /* Builds everything; the scene must outlive the world. */

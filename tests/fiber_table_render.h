@@ -36,7 +36,6 @@ static inline void feather_sheet_scene(double barb_eccentricity, plm_bcsdf_kind 
     assert_non_null(m.feather);
     plm_feather_params_default(m.feather);
     m.feather->barb.eccentricity = m.feather->masking.barb_eccentricity = barb_eccentricity;
-    plm_feather_params_prepare_masking(m.feather);
     m.feather->bcsdf = kind;
     float *px = malloc(sizeof(float) * 3 * 4); /* the texture takes it */
     assert_non_null(px);

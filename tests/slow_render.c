@@ -30,7 +30,6 @@ static plm_feather_params random_params(plm_rng *rng, int clear)
         p.masking.barbule_separation = uniform(rng, 0.1, 3.0);
         p.masking.barbule_inclination = plm_radians(uniform(rng, -60.0, 60.0));
         p.masking.barbule_rotation = plm_radians(uniform(rng, 30.0, 60.0));
-        plm_feather_params_prepare_masking(&p);
         plm_fiber_params *f[2] = {&p.barb, &p.barbule};
         for (int k = 0; k < 2; ++k) {
             f[k]->eccentricity = uniform(rng, 1.0, 2.0);
@@ -69,7 +68,8 @@ static void sampling_matches_pdf_over_random_feathers(void **state)
     for (int c = 0; c < CONFIGS; ++c) {
         vec3 wo;
         plm_material m = random_case(&rng, 0, &wo);
-        plm_hit hit = plane_hit(&m);
+        plm_prepared_material prepared;
+        plm_hit hit = plane_hit(&m, &prepared);
         plm_bsdf b;
         plm_material_bsdf(&hit, wo, &rng, &b);
         const plm_feather_bsdf *f = (const plm_feather_bsdf *)b.state;
@@ -93,7 +93,8 @@ static void white_furnace_over_random_feathers(void **state)
     for (int c = 0; c < CONFIGS; ++c) {
         vec3 wo;
         plm_material m = random_case(&rng, 1, &wo);
-        plm_hit hit = plane_hit(&m);
+        plm_prepared_material prepared;
+        plm_hit hit = plane_hit(&m, &prepared);
         char label[32];
         snprintf(label, sizeof label, "config %d", c);
         albedo_sum += furnace_albedo(&hit, wo, &rng, 1000000, 4.5, label);

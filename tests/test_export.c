@@ -34,12 +34,14 @@ static void diffuse_bakes_to_its_reflectance(void **state)
     plm_material m = plm_diffuse_material("grey", rgb_make(0.3, 0.5, 0.7), 0.2);
     plm_bake_albedo al;
     plm_error err;
-    assert_int_equal(plm_bake_albedo_of(&m, &(plm_bake_options){0}, &al, &err), PLM_OK);
+    plm_prepared_material prepared;
+    plm_material_prepare(&m, &prepared);
+    assert_int_equal(plm_bake_albedo_of(&m, &prepared, &(plm_bake_options){0}, &al, &err), PLM_OK);
     assert_double_near(al.colour.r, 0.3, 0.0);
     assert_double_near(al.colour.b, 0.7, 0.0);
     assert_double_near(al.alpha, 0.8, 1e-15);
     plm_bake_view v;
-    assert_int_equal(plm_bake_view_at(&m, v3_normalize(v3(0.3, 0.1, 0.9)), 256, 1, &v, &err), PLM_OK);
+    assert_int_equal(plm_bake_view_at(&m, &prepared, v3_normalize(v3(0.3, 0.1, 0.9)), 256, 1, &v, &err), PLM_OK);
     assert_double_near(v.radiance.g, 0.2 + 0.8 * 0.5, 1e-12);
 }
 
@@ -56,9 +58,11 @@ static void clear_feather_bakes_to_white(void **state)
     p.barb.medulla_reflectance = rgb_gray(1.0);
     p.bcsdf = PLM_BCSDF_STOCHASTIC;
     plm_material m = feather_material(&p, plm_radians(60.0));
+    plm_prepared_material prepared;
+    plm_material_prepare(&m, &prepared);
     plm_bake_albedo al;
     plm_error err;
-    assert_int_equal(plm_bake_albedo_of(&m, &(plm_bake_options){16, 64, 3}, &al, &err), PLM_OK);
+    assert_int_equal(plm_bake_albedo_of(&m, &prepared, &(plm_bake_options){16, 64, 3}, &al, &err), PLM_OK);
     double furnace = al.alpha * rgb_mean(al.colour) + (1.0 - al.alpha);
     fprintf(stderr, "clear feather: colour %.4f %.4f %.4f (se %.4f), alpha %.4f, furnace %.4f\n", al.colour.r,
             al.colour.g, al.colour.b, al.colour_se, al.alpha, furnace);
@@ -74,7 +78,7 @@ static plm_material fiber_material(const plm_fiber_params *p, plm_fiber_material
     memset(&m, 0, sizeof m);
     snprintf(m.name, sizeof m.name, "fluff");
     m.type = PLM_MATERIAL_FIBER;
-    *fm = (plm_fiber_material){*p, 1, NULL};
+    *fm = (plm_fiber_material){*p, 1};
     m.fiber = fm;
     return m;
 }
@@ -91,12 +95,14 @@ static void fibers_bake_to_their_far_field(void **state)
     p.sigma_a = rgb_gray(0.0);
     plm_fiber_material fm;
     plm_material m = fiber_material(&p, &fm);
+    plm_prepared_material prepared; /* no table: the stochastic estimator */
+    plm_material_prepare(&m, &prepared);
     plm_bake_albedo clear, red;
     plm_error err;
-    assert_int_equal(plm_bake_albedo_of(&m, &(plm_bake_options){16, 64, 3}, &clear, &err), PLM_OK);
+    assert_int_equal(plm_bake_albedo_of(&m, &prepared, &(plm_bake_options){16, 64, 3}, &clear, &err), PLM_OK);
     plm_fiber_params_figure7(&p, 0);
     m = fiber_material(&p, &fm);
-    assert_int_equal(plm_bake_albedo_of(&m, &(plm_bake_options){16, 64, 3}, &red, &err), PLM_OK);
+    assert_int_equal(plm_bake_albedo_of(&m, &prepared, &(plm_bake_options){16, 64, 3}, &red, &err), PLM_OK);
     fprintf(stderr, "clear fiber: colour %.4f %.4f %.4f (se %.4f), alpha %.4f; Fig. 7 fiber %.4f %.4f %.4f\n",
             clear.colour.r, clear.colour.g, clear.colour.b, clear.colour_se, clear.alpha, red.colour.r, red.colour.g,
             red.colour.b);
@@ -135,7 +141,8 @@ static void bake_agrees_with_the_renderers_furnace(void **state)
         assert_int_equal(plm_world_build(&s, &w, &err), PLM_OK);
         estimate render = film_mean(&w, PLM_ESTIMATOR_MIS, 4, 20000, 11 + k);
         plm_bake_view v;
-        assert_int_equal(plm_bake_view_at(&s.materials[mat], wo, 64 * 256, 5 + k, &v, &err), PLM_OK);
+        assert_int_equal(plm_bake_view_at(&s.materials[mat], w.prepared_of[mat], wo, 64 * 256, 5 + k, &v, &err),
+                         PLM_OK);
         estimate bake = {rgb_mean(v.radiance), v.radiance_se};
         fprintf(stderr, "furnace from (%.2f %.2f %.2f): render %.4f +- %.4f, bake %.4f +- %.4f (w_t %.3f)\n", wo.x,
                 wo.y, wo.z, render.mean, render.se, bake.mean, bake.se, v.transmission);

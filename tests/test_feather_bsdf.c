@@ -39,7 +39,6 @@ static plm_feather_params clear_params(int variant)
         p.barb.medulla_ca = -0.1, p.barb.medulla_cb = 0.1;
         p.barb.beta_m = p.barbule.beta_m = 0.3;
     }
-    plm_feather_params_prepare_masking(&p);
     plm_error err;
     assert_int_equal(plm_feather_params_validate(&p, &err), PLM_OK);
     return p;
@@ -196,7 +195,8 @@ static void white_furnace_of_the_bsdf(void **state)
     for (int variant = 0; variant < 3; ++variant) {
         plm_feather_params p = clear_params(variant);
         plm_material m = feather_material(&p, plm_radians(60.0));
-        plm_hit hit = plane_hit(&m);
+        plm_prepared_material prepared;
+        plm_hit hit = plane_hit(&m, &prepared);
         const double views[][3] = {{0.1, 0.2, 1.0}, {0.7, -0.3, 0.4}, {-0.5, 0.6, 0.3}, {0.3, 0.2, -0.8}};
         for (int v = 0; v < 4; ++v) {
             char label[64];
@@ -225,7 +225,8 @@ static void sampling_matches_pdf(void **state)
         if (t % 2)
             p.masking.barbule_inclination = plm_radians(30.0), p.masking.barbule_separation = 0.2;
         plm_material m = feather_material(&p, plm_radians(50.0 + 20.0 * t));
-        plm_hit hit = plane_hit(&m);
+        plm_prepared_material prepared;
+        plm_hit hit = plane_hit(&m, &prepared);
         vec3 wo = v3_normalize(t == 3 ? v3(0.4, 0.3, -0.6) : v3(0.3 * t, 0.5, 0.8));
         plm_bsdf b;
         plm_material_bsdf(&hit, wo, &rng, &b);
@@ -258,10 +259,11 @@ static void tabulated_sampling_matches_pdf_at_grazing_views(void **state)
     o.theta_nodes = 7, o.phi_nodes = 6, o.h_cells = 16, o.phi_bins = 96;
     o.medulla = (plm_fiber_medulla_resolution){4, 3, 12, 9, 36, 512, 16, 8};
     plm_error err;
-    if (plm_feather_params_build_tables(&p, &o, &err) != PLM_OK)
-        fail_msg("%s", err.message);
     plm_material m = feather_material(&p, plm_radians(50.0));
-    plm_hit hit = plane_hit(&m);
+    plm_prepared_material prepared;
+    plm_hit hit = plane_hit(&m, &prepared);
+    if (plm_material_prepare_tables(&m, &o, &prepared, &err) != PLM_OK)
+        fail_msg("%s", err.message);
     plm_rng rng;
     plm_rng_seed(&rng, 8, 9);
     for (int t = 0; t < N_TESTS; ++t) {
@@ -272,8 +274,8 @@ static void tabulated_sampling_matches_pdf_at_grazing_views(void **state)
         if (!(pv > threshold))
             fail_msg("chi-square test %d: p-value %.5f below %.5f", t, pv, threshold);
     }
+    plm_prepared_material_free(&prepared);
     free_material(&m);
-    plm_feather_params_free_tables(&p);
 }
 
 /* The same seed prepares the same BSDF: eval, pdf and samples agree exactly
@@ -286,7 +288,8 @@ static void prepared_bsdf_is_reproducible_by_seed(void **state)
     plm_feather_params p;
     plm_feather_params_default(&p);
     plm_material m = feather_material(&p, 1.0);
-    plm_hit hit = plane_hit(&m);
+    plm_prepared_material prepared;
+    plm_hit hit = plane_hit(&m, &prepared);
     plm_rng a, b, c, u;
     plm_rng_seed(&a, 1, 2);
     plm_rng_seed(&b, 1, 2);
@@ -371,10 +374,11 @@ static void sampled_weights_estimate_the_mixture(void **state)
         plm_error err;
         if (t < 2)
             p.bcsdf = PLM_BCSDF_STOCHASTIC;
-        else if (plm_feather_params_build_tables(&p, &o, &err) != PLM_OK)
-            fail_msg("%s", err.message);
         plm_material m = feather_material(&p, plm_radians(40.0 + 25.0 * t));
-        plm_hit hit = plane_hit(&m);
+        plm_prepared_material prepared;
+        plm_hit hit = plane_hit(&m, &prepared);
+        if (plm_material_prepare_tables(&m, &o, &prepared, &err) != PLM_OK)
+            fail_msg("%s", err.message);
         plm_bsdf b;
         plm_material_bsdf(&hit, v3_normalize(t % 2 ? v3(-0.4, 0.3, 0.7) : v3(0.3, -0.5, 0.6)), &rng, &b);
         for (int side = 0; side < 2; ++side) {
@@ -389,7 +393,7 @@ static void sampled_weights_estimate_the_mixture(void **state)
                          ref.mean, ref.se);
             wrong_caught += side == 0 && zw > 4.2;
         }
-        plm_feather_params_free_tables(m.feather);
+        plm_prepared_material_free(&prepared);
         free_material(&m);
     }
     assert_int_equal(wrong_caught, 4);
@@ -412,16 +416,17 @@ static void barbule_fibers_lie_in_the_tilted_rows(void **state)
         p.masking.barbule_inclination = plm_radians(-80.0 + 160.0 * plm_rng_uniform(&rng));
         p.masking.barbule_rotation = plm_radians(5.0 + 80.0 * plm_rng_uniform(&rng));
         p.masking.barbule_length = 0.5 + 3.0 * plm_rng_uniform(&rng);
-        plm_feather_params_prepare_masking(&p);
+        plm_feather_model model;
+        plm_feather_model_init(&model, &p);
         frame barb;
         barb.y = v3_normalize(v3(plm_rng_uniform(&rng) - 0.5, 1.0, plm_rng_uniform(&rng) - 0.5));
         barb.z = v3_normalize(v3_cross(barb.y, v3(1.0, 0.2, -0.3)));
         barb.x = v3_cross(barb.y, barb.z);
         vec3 wo = v3_normalize(v3(plm_rng_uniform(&rng) - 0.5, plm_rng_uniform(&rng) - 0.3, plm_rng_uniform(&rng) - 0.5));
         plm_masking feather, m;
-        plm_feather_masking(&p, &barb, NULL, wo, &feather);
+        plm_feather_masking(&model, &barb, NULL, wo, &feather);
         plm_feather_bsdf f;
-        plm_feather_prepare_masked(&p, &barb, wo, &feather, rgb_gray(1.0), &rng, &f);
+        plm_feather_prepare_masked(&model, &barb, wo, &feather, rgb_gray(1.0), &rng, &f);
         plm_masking_eval(&p.masking, frame_to_local(&barb, wo), &m);
         assert_double_near(f.masking.w_barb, m.w_barb, 1e-12);
         assert_double_near(f.masking.w_distal, m.w_distal, 1e-12);

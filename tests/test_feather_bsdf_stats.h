@@ -25,7 +25,6 @@ static inline plm_material feather_material(const plm_feather_params *p, double 
     m.reflectance = rgb_gray(0.8);
     m.feather = malloc(sizeof *m.feather);
     *m.feather = *p;
-    plm_feather_params_prepare_masking(m.feather);
     float *px = malloc(sizeof(float) * 4 * 4 * 3);
     for (int i = 0; i < 16; ++i)
         px[3 * i] = (float)((cos(a) + 1) / 2), px[3 * i + 1] = (float)((sin(a) + 1) / 2), px[3 * i + 2] = 1.0f;
@@ -40,9 +39,12 @@ static inline void free_material(plm_material *m)
     free(m->feather);
 }
 
-/* A hit on the plane z = 0 with u along x, v along y (toward the tip), normal +z. */
-static inline plm_hit plane_hit(const plm_material *m)
+/* A hit on the plane z = 0 with u along x, v along y (toward the tip), normal +z,
+ * with what rendering derives from m prepared into *prepared (no tables: add
+ * them with plm_material_prepare_tables, free with plm_prepared_material_free). */
+static inline plm_hit plane_hit(const plm_material *m, plm_prepared_material *prepared)
 {
+    plm_material_prepare(m, prepared);
     plm_hit h;
     memset(&h, 0, sizeof h);
     h.ng = h.n = v3(0, 0, 1);
@@ -51,6 +53,7 @@ static inline plm_hit plane_hit(const plm_material *m)
     h.uv = v2(0.5, 0.5);
     h.tint = rgb_gray(1.0);
     h.material = m;
+    h.prepared = prepared;
     plm_material_surface(&h);
     return h;
 }
