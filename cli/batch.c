@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "cli/batch.h"
+#include "common/clock.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/outputs.h"
@@ -143,8 +144,7 @@ static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
             r.todo[r.n_todo++] = j;
     }
     /* Whole jobs in parallel first (no synchronisation inside a job), then the spare cores as threads. */
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    cores = cores > 0 ? cores : 1;
+    long cores = plm_cores();
     r.slots = parallel ? parallel : (int)(cores < r.n_todo ? cores : (r.n_todo ? r.n_todo : 1));
     r.threads = threads ? threads : (int)(cores / r.slots > 1 ? cores / r.slots : 1);
     r.pids = calloc((size_t)r.slots, sizeof *r.pids);
@@ -190,9 +190,9 @@ static int run_local(const plm_batch *b, int parallel, int threads, int quiet)
         } else {
             struct timespec nap = {0, 20000000}; /* 20 ms: a finished job waits at most that for its successor */
             nanosleep(&nap, NULL);
-            if (r.progress.tty && plm_progress_seconds() - last_draw > 0.25) { /* the time left goes down */
+            if (r.progress.tty && plm_seconds() - last_draw > 0.25) { /* the time left goes down */
                 draw_progress(&r, quiet, 0);
-                last_draw = plm_progress_seconds();
+                last_draw = plm_seconds();
             }
         }
     }

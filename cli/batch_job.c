@@ -14,6 +14,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/batch.h"
+#include "common/clock.h"
 #include "cli/bench.h"
 #include "cli/render_job.h"
 #include "common/fileio.h"
@@ -362,7 +363,7 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
         return 1;
     }
     clean_job_folder(b, job);
-    double t0 = plm_bench_seconds();
+    double t0 = plm_seconds();
     cJSON *started = record(b, job, "started");
     plm_batch_job_path(b, job, "started.json", path, sizeof path);
     int ok = plm_batch_write_json(path, started);
@@ -408,7 +409,7 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
                              : stop_job == SIGTERM ? "stopped by SIGTERM (scancel, a time limit or kill)"
                                                    : "stopped by SIGINT (Ctrl-C)",
                              status);
-    double total = plm_bench_seconds() - t0;
+    double total = plm_seconds() - t0;
     cJSON *summary = summary_document(b, job, &rj, total);
     if (!summary)
         return finish_failed(b, job, "an output could not be read back for its hash", 1);

@@ -1,22 +1,15 @@
 /* plumage bench <what>: prints performance figures for one part of plumage. */
 #include "cli/bench.h"
+#include "common/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "cli/commands.h"
 #include "cli/options.h"
-
-double plm_bench_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int plm_bench_in_child(int (*measure)(void *ctx, void *figures), void *ctx, void *figures, size_t size)
 {
@@ -53,9 +46,9 @@ double plm_bench_ns_per_call(void (*body)(void *ctx, long calls), void *ctx, lon
         runs = 64;
     body(ctx, calls / 10 + 1); /* warm caches and branch predictors */
     for (int r = 0; r < runs; ++r) {
-        double t0 = plm_bench_seconds();
+        double t0 = plm_seconds();
         body(ctx, calls);
-        times[r] = (plm_bench_seconds() - t0) * 1e9 / (double)calls;
+        times[r] = (plm_seconds() - t0) * 1e9 / (double)calls;
     }
     qsort(times, (size_t)runs, sizeof times[0], compare_doubles);
     return runs % 2 ? times[runs / 2] : 0.5 * (times[runs / 2 - 1] + times[runs / 2]);

@@ -9,8 +9,6 @@
  * call (single thread, wall clock, after one warm-up run). */
 double plm_bench_ns_per_call(void (*body)(void *ctx, long calls), void *ctx, long calls, int runs);
 
-/* Seconds since an arbitrary start (monotonic). */
-double plm_bench_seconds(void);
 
 /* Runs measure(ctx, figures) in a child process, so that the peak memory it
  * reports is its own, and copies the size bytes of *figures it filled back

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cli/bench.h"
+#include "common/clock.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/memory.h"
@@ -29,17 +30,17 @@ static void measure(const char *path, const char *out, const plm_gltf_options *o
 {
     plm_scene scene;
     plm_error err = {{0}};
-    double t0 = plm_bench_seconds();
+    double t0 = plm_seconds();
     if (plm_scene_load(path, &scene, &err) != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);
         return;
     }
-    double t1 = plm_bench_seconds();
+    double t1 = plm_seconds();
     f->load_peak_mib = plm_memory_peak_mib();
     /* The export's own peak, if the system can restart the count (else the process's). */
     int own = plm_memory_reset_peak();
     plm_result rc = plm_gltf_export(&scene, out, o, &f->report, &err);
-    double t2 = plm_bench_seconds();
+    double t2 = plm_seconds();
     f->export_peak_mib = own ? plm_memory_peak_mib() : 0.0;
     f->instances = scene.instance_count;
     plm_scene_free(&scene);

@@ -8,9 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli/bench.h"
+#include "common/clock.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "common/memory.h"
@@ -18,15 +18,6 @@
 #include "render/render.h"
 #include "scene/scene_file.h"
 #include "texture/feather.h"
-
-/* CPU seconds of this thread: on a shared machine, less disturbed by other
- * processes than the wall clock. */
-static double thread_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static double median(double *v, int n)
 {
@@ -65,13 +56,13 @@ static int time_generation(const plm_species *sp, const plm_feather_options *fo,
         malloc_trim(0);
         double start = plm_memory_resident_mib();
         plm_memory_reset_peak();
-        double t0 = plm_bench_seconds(), c0 = thread_seconds();
+        double t0 = plm_seconds(), c0 = plm_thread_seconds();
         if (plm_feather_generate(sp, fo, &f, &err) != PLM_OK) {
             fprintf(stderr, "error: %s\n", err.message);
             return 0;
         }
-        wall[r] = 1e3 * (plm_bench_seconds() - t0);
-        cpu[r] = 1e3 * (thread_seconds() - c0);
+        wall[r] = 1e3 * (plm_seconds() - t0);
+        cpu[r] = 1e3 * (plm_thread_seconds() - c0);
         g->peak_mib = plm_memory_peak_mib() - start;
         double bytes = mesh_bytes(&f.vane) + mesh_bytes(&f.rachis) + image_bytes(&f.texture) + image_bytes(&f.barb) +
                        image_bytes(&f.pigment) + (double)plm_curves_bytes(&f.fluff);
@@ -95,9 +86,9 @@ static double time_fluff(const plm_species *sp, int runs)
         return NAN;
     for (int r = 0; r < runs; ++r) {
         plm_curves c;
-        double c0 = thread_seconds();
+        double c0 = plm_thread_seconds();
         plm_result rc = plm_fluff_curves(&o, &c, NULL);
-        cpu[r] = 1e3 * (thread_seconds() - c0);
+        cpu[r] = 1e3 * (plm_thread_seconds() - c0);
         plm_curves_free(&c);
         if (rc != PLM_OK)
             return NAN;

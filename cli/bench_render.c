@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "cli/bench.h"
+#include "common/clock.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/outputs.h"
@@ -209,13 +210,13 @@ static int run_case(const char *label, const char *tag, int feathers, int width,
     set_kind(&scene, o->kind[0]);
     scene.film.fiber_table_mib = o->table_mib;
     plm_world world;
-    double t0 = plm_bench_seconds();
+    double t0 = plm_seconds();
     if (plm_world_build(&scene, &world, &err) != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);
         plm_scene_free(&scene);
         return 1;
     }
-    double build = plm_bench_seconds() - t0;
+    double build = plm_seconds() - t0;
     plm_render_options opt = {0};
     opt.threads = o->threads;
     opt.spp = o->spp;

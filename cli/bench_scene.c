@@ -9,10 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "cli/bench.h"
+#include "common/clock.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/outputs.h"
@@ -32,21 +32,12 @@ typedef struct figures {
     double load, build, seconds, samples_per_thread, us_per_sample, cpu_us_per_sample, peak_mib;
 } figures;
 
-/* CPU seconds this process has used: unlike the wall clock, not inflated
- * when other processes share the cores. */
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Loads (file or text), builds, renders; fills f. Runs in the child. */
 static void measure(const char *file, const char *text, const char *tag, const bench_scene_options *o, figures *f)
 {
     plm_scene scene;
     plm_error err = {{0}};
-    double t0 = plm_bench_seconds();
+    double t0 = plm_seconds();
     plm_result rc = text ? plm_scene_load_buffer(text, strlen(text), tag, &scene, &err)
                          : plm_scene_load(file, &scene, &err);
     if (rc != PLM_OK) {
@@ -57,21 +48,21 @@ static void measure(const char *file, const char *text, const char *tag, const b
     scene.film.height = (int)fmax(1.0, round(scene.film.height * o->scale));
     if (o->far_field)
         scene.film.far_field = o->far_field == 2;
-    double t1 = plm_bench_seconds();
+    double t1 = plm_seconds();
     plm_world world;
     if (plm_world_build(&scene, &world, &err) != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);
         plm_scene_free(&scene);
         return;
     }
-    double t2 = plm_bench_seconds();
+    double t2 = plm_seconds();
     plm_render_options opt = {0};
     opt.threads = o->threads;
     opt.spp = o->spp;
     plm_film film;
-    double cpu0 = cpu_seconds();
+    double cpu0 = plm_cpu_seconds();
     if (plm_render_world(&world, &opt, &film, &err) == PLM_OK) {
-        double cpu = cpu_seconds() - cpu0;
+        double cpu = plm_cpu_seconds() - cpu0;
         *f = (figures){1, film.width, film.height, o->spp, film.threads, scene.instance_count, t1 - t0, t2 - t1,
                        film.seconds, film.sample_count / film.seconds / film.threads,
                        1e6 * film.seconds * film.threads / (double)film.sample_count,

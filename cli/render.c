@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli/bench.h"
+#include "common/clock.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/outputs.h"
@@ -122,7 +123,7 @@ int plm_render_job_run(plm_render_job *job)
     job->before_mib = plm_memory_resident_mib();
     double library_before, unused;
     plm_image_library_memory(&library_before, &unused);
-    double t0 = plm_bench_seconds();
+    double t0 = plm_seconds();
     cJSON *resolved = NULL;
     plm_scene_load_options lo = {job->sets, job->n_sets, job->resolved ? &resolved : NULL, job->asset_dir};
     if (plm_scene_load_ex(job->scene, &lo, &scene, &err) != PLM_OK)
@@ -164,7 +165,7 @@ int plm_render_job_run(plm_render_job *job)
     if (job->white_balance > 0.0)
         picture.white_balance = job->white_balance;
     plm_film film;
-    double t1 = plm_bench_seconds();
+    double t1 = plm_seconds();
     char mp4[PLM_PATH_MAX] = "";
     plm_turntable turntable = {job->turntable, job->png, job->exr, 0.0};
     plm_result rendered = job->turntable > 0
@@ -175,7 +176,7 @@ int plm_render_job_run(plm_render_job *job)
         plm_scene_free(&scene);
         return job_failed(job, &err);
     }
-    double t2 = plm_bench_seconds();
+    double t2 = plm_seconds();
     int status = 0;
     if (job->turntable > 0)
         describe_sequence(job, film.interrupted, mp4);
@@ -185,7 +186,7 @@ int plm_render_job_run(plm_render_job *job)
         status = job_failed(job, &err);
     job->load_seconds = t1 - t0;
     job->render_seconds = t2 - t1;
-    job->write_seconds = plm_bench_seconds() - t2;
+    job->write_seconds = plm_seconds() - t2;
     job->out_width = film.width;
     job->out_height = film.height;
     job->out_spp = job->spp > 0 ? job->spp : scene.film.spp;

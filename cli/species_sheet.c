@@ -5,6 +5,7 @@
  * labelled grid. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "cli/species_sheet.h"
+#include "common/clock.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -196,12 +197,12 @@ int plm_species_sheet(const char *out, const char *const *files, int n, const pl
     memset(&sh, 0, sizeof sh);
     ok = ok && plm_outputs_file(&outputs, "--contact-sheet", out) && make_sheet(&sh, n, opt);
     long long nonfinite = 0;
-    double start = plm_bench_seconds();
+    double start = plm_seconds();
     for (int k = 0; ok && k < n; ++k) {
         ok = render_species(&sh, k, files[k], &sp[k], opt, &nonfinite);
         if (ok && !opt->quiet)
             fprintf(stderr, "contact sheet: %d/%d %s, front and back at %d spp, %.0f s elapsed\n", k + 1, n,
-                    sp[k].name, opt->spp, plm_bench_seconds() - start);
+                    sp[k].name, opt->spp, plm_seconds() - start);
     }
     if (ok && plm_image_write_srgb_png(out, sh.img.width, sh.img.height, sh.img.pixels, 0.0, &err) != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);

@@ -1,4 +1,5 @@
 #include "cli/turntable.h"
+#include "common/clock.h"
 
 #include <errno.h>
 #include <math.h>
@@ -6,19 +7,11 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "render/transform.h"
 
 extern char **environ;
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static int frame_digits(int frames)
 {
@@ -114,7 +107,7 @@ static plm_result render_frames(plm_world *world, const plm_render_options *ro, 
                                 const plm_turntable *t, plm_film *total, plm_error *err)
 {
     const plm_camera_desc start = plm_world_camera_desc(world);
-    double t0 = now_seconds();
+    double t0 = plm_seconds();
     for (int k = 0; k < t->frames && !total->interrupted; ++k) {
         plm_camera_desc d = orbit(start, k, t->frames);
         plm_world_set_camera(world, &d);
@@ -132,7 +125,7 @@ static plm_result render_frames(plm_world *world, const plm_render_options *ro, 
         plm_film_free(&film);
         if (rc != PLM_OK)
             return rc;
-        double elapsed = now_seconds() - t0, left = elapsed / (k + 1) * (t->frames - k - 1);
+        double elapsed = plm_seconds() - t0, left = elapsed / (k + 1) * (t->frames - k - 1);
         fprintf(stderr, "frame %d of %d: %s%s%s  (%.0f s so far, about %.0f s left)\n", k + 1, t->frames, png,
                 png[0] && exr[0] ? " " : "", exr, elapsed, left);
     }

@@ -1,26 +1,19 @@
-#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#define _POSIX_C_SOURCE 200809L /* isatty */
 #include "common/progress.h"
+#include "common/clock.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 enum { BAR = 30 };
-
-double plm_progress_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void plm_progress_start(plm_progress *p, const char *what)
 {
     snprintf(p->what, sizeof p->what, "%s", what);
     p->tty = isatty(2);
-    p->start = plm_progress_seconds();
+    p->start = plm_seconds();
     p->tenths = 0;
     p->drawn = 0;
 }
@@ -43,7 +36,7 @@ static void print_line(plm_progress *p, double fraction, const char *detail, int
     for (int i = 0; i < BAR; ++i)
         bar[i] = i < filled ? '#' : '.';
     bar[BAR] = '\0';
-    double elapsed = plm_progress_seconds() - p->start;
+    double elapsed = plm_seconds() - p->start;
     if (last) {
         format_time(elapsed, span, sizeof span);
         snprintf(time, sizeof time, "in %s", span);
@@ -62,7 +55,7 @@ void plm_progress_update(plm_progress *p, double fraction, const char *detail)
 {
     if (!p->tty) { /* a line per tenth, once the task has run long enough to be waited for */
         int tenths = (int)floor(10.0 * fraction);
-        if (tenths <= p->tenths || tenths >= 10 || plm_progress_seconds() - p->start < 2.0)
+        if (tenths <= p->tenths || tenths >= 10 || plm_seconds() - p->start < 2.0)
             return;
         p->tenths = tenths;
     }

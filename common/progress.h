@@ -28,7 +28,4 @@ void plm_progress_update(plm_progress *p, double fraction, const char *detail);
 /* The last line: the bar at `fraction` with the detail and the time taken. */
 void plm_progress_finish(plm_progress *p, double fraction, const char *detail);
 
-/* Seconds on a monotonic clock. */
-double plm_progress_seconds(void);
-
 #endif

@@ -2,12 +2,12 @@
  * scene's meshes and instances as they are, grouped into feather nodes, and
  * its materials baked (export/bake.h). */
 #include "export/gltf.h"
+#include "common/clock.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "common/fileio.h"
 #include "common/image_io.h"
@@ -15,13 +15,6 @@
 #include "optics/feather_bsdf.h"
 #include "optics/fiber_table.h"
 #include "render/material.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void plm_gltf_root_matrix(const plm_scene *scene, double m[3][4])
 {
@@ -414,14 +407,14 @@ plm_result plm_gltf_export(const plm_scene *scene, const char *path, const plm_g
             rc = plm_fail(err, PLM_ERR_INVALID, "%s: the scene has nothing to export (%d instances, %d left out)",
                           path, scene->instance_count, r.left_out);
     }
-    double t0 = now();
+    double t0 = plm_seconds();
     if (rc == PLM_OK)
         rc = build_materials(&b, err);
-    double t1 = now();
+    double t1 = plm_seconds();
     if (rc == PLM_OK)
         rc = plm_asset_write_gltf(path, &b.a, err);
     r.bake_seconds = t1 - t0;
-    r.write_seconds = now() - t1;
+    r.write_seconds = plm_seconds() - t1;
     r.nodes = b.a.node_count;
     r.meshes = b.a.mesh_count;
     r.materials = b.a.material_count;

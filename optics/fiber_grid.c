@@ -1,13 +1,13 @@
 /* The grid both parts of the tabulated fiber BCSDF are laid on and read
  * through (optics/fiber_grid.h), and the builds' thread pool. */
 #include "optics/fiber_grid.h"
+#include "common/clock.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "common/progress.h"
 
@@ -110,18 +110,10 @@ static void *parallel_worker(void *arg)
     return NULL;
 }
 
-double plm_fiber_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes, int threads,
                        int quiet, const char *what, double started)
 {
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    threads = threads > 0 ? threads : cores > 0 ? (int)cores : 1;
+    threads = threads > 0 ? threads : plm_cores();
     parallel_run r = {work, ctx, items, lobes, scratch_bytes, 0, 0, 0};
     pthread_t *tid = calloc((size_t)threads, sizeof *tid);
     if (!tid)
@@ -139,7 +131,7 @@ int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch
     while (launched > 0 && atomic_load(&r.done) < items && !atomic_load(&r.failed)) {
         struct timespec nap = {0, 100000000};
         nanosleep(&nap, NULL);
-        if (plm_fiber_seconds() - started > 1.0 && !quiet) {
+        if (plm_seconds() - started > 1.0 && !quiet) {
             if (progress.start == 0.0)
                 plm_progress_start(&progress, "fiber table");
             plm_progress_update(&progress, (double)atomic_load(&r.done) / items, detail);

@@ -144,11 +144,10 @@ static inline int plm_fiber_search_probe(int probe, int lo, int hi, double x0, d
 /* Runs work(ctx, item, scratch, lobes) for items 0..items-1 on `threads`
  * threads (0: all cores), each thread with scratch_bytes of scratch and room
  * for `lobes` lobes, showing "what" and the progress on stderr (unless
- * quiet) once `started` (plm_fiber_seconds) is a second ago; returns 0 when
+ * quiet) once `started` (plm_seconds, common/clock.h) is a second ago; returns 0 when
  * out of memory. */
 typedef void (*plm_fiber_work)(void *ctx, int item, double *scratch, plm_fiber_lobe *lobes);
 int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes, int threads,
                        int quiet, const char *what, double started);
-double plm_fiber_seconds(void); /* monotonic */
 
 #endif

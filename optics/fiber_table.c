@@ -16,6 +16,7 @@
  * interval's ends a lobe is taken to move and change linearly in h, and its
  * G_N's mean over the piece is integrated in closed form (moving lobes). */
 #include "optics/fiber_table.h"
+#include "common/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -325,7 +326,7 @@ static void build_node(void *ctx, int node, double *scratch, plm_fiber_lobe *lob
  * stderr once the build has taken a second. */
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err)
 {
-    double t0 = plm_fiber_seconds();
+    double t0 = plm_seconds();
     int threads = o ? o->threads : 0, quiet = o && o->quiet;
     if (!plm_fiber_parallel(build_node, t, t->theta_nodes * t->phi_nodes,
                             sizeof(double) * 3 * (size_t)(2 * t->phi_bins + 1), t->params.lobes, threads, quiet,
@@ -334,7 +335,7 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
     plm_result rc = plm_fiber_medulla_build(&t->params, &t->medulla, threads, quiet, t0, err);
     if (rc != PLM_OK)
         return rc;
-    t->build_seconds = plm_fiber_seconds() - t0;
+    t->build_seconds = plm_seconds() - t0;
     return PLM_OK;
 }
 

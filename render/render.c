@@ -1,5 +1,6 @@
 /* Film, tiles, threads, passes, progress and output. */
 #include "render/render.h"
+#include "common/clock.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -8,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "common/image_io.h"
 #include "common/progress.h"
@@ -39,13 +39,6 @@ typedef struct job {
     pthread_cond_t gate;
     int gate_open;
 } job;
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Passes of 1, 1, 2, 4, 8, ... samples per pixel up to a cap: an early full
  * image, then steady work per pass, and never more than MAX_PASSES passes. */
@@ -156,12 +149,6 @@ static void draw_progress(job *j, plm_progress *progress, double elapsed, int fi
     (final ? plm_progress_finish : plm_progress_update)(progress, fraction, detail);
 }
 
-static int default_threads(void)
-{
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n > 0 ? (int)n : 1;
-}
-
 plm_result plm_render_world(const plm_world *world, const plm_render_options *opt, plm_film *film,
                             plm_error *err)
 {
@@ -173,7 +160,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
         return rc;
     film->width = fd->width;
     film->height = fd->height;
-    film->threads = opt->threads > 0 ? opt->threads : default_threads();
+    film->threads = opt->threads > 0 ? opt->threads : plm_cores();
     size_t pixels = (size_t)film->width * film->height;
     job *j = calloc(1, sizeof *j);
     film->rgb = calloc(pixels * 3, sizeof *film->rgb);
@@ -203,7 +190,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     pthread_cond_init(&j->gate, NULL);
 
     /* Start the threads, then size the barrier to those that did start and open the gate. */
-    double t0 = now_seconds(), last_draw = t0;
+    double t0 = plm_seconds(), last_draw = t0;
     plm_progress progress;
     if (opt->progress)
         plm_progress_start(&progress, "render");
@@ -222,7 +209,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     while (atomic_load(&j->finished_threads) < film->threads) {
         struct timespec nap = {0, 50 * 1000 * 1000};
         nanosleep(&nap, NULL);
-        double t = now_seconds();
+        double t = plm_seconds();
         if (opt->progress && t - last_draw >= 0.25) {
             draw_progress(j, &progress, t - t0, 0);
             last_draw = t;
@@ -230,7 +217,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     }
     for (int i = 0; i < started; ++i)
         pthread_join(threads[i], NULL);
-    film->seconds = now_seconds() - t0;
+    film->seconds = plm_seconds() - t0;
     if (opt->progress)
         draw_progress(j, &progress, film->seconds, 1);
     pthread_barrier_destroy(&j->barrier);

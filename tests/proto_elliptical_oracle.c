@@ -52,6 +52,7 @@
 #include <cmocka.h>
 
 #include "tests/fiber_table_stats.h"
+#include "common/clock.h"
 
 /* slow_fiber_table's queries per fiber and kind of wi, and its reference's h strata. */
 enum { QUERIES = 2000, REFERENCE_STRATA = 2000 };
@@ -652,19 +653,19 @@ static void fiber(const plm_fiber_params *p, const char *name, int index, plm_rn
         for (int i = 0; i < QUERIES && ro->draw > 0; ++i)
             query[i] = error_query(p, &other, uniform);
         harness hs = {t, &layout, query, result, ro->strata, ro->study};
-        double started = plm_fiber_seconds();
+        double started = plm_seconds();
         assert_true(plm_fiber_parallel(query_work, &hs, ro->queries, sizeof(double), p->lobes, o.threads, o.quiet, name, started));
         report(name, uniform, query, result, ro->queries, ro->study);
         fprintf(stderr, "%-28s table %d x %d nodes, estimators %d x %d, %d strata, %.0f s\n", name, t->theta_nodes,
-                t->phi_nodes, layout.theta_nodes, layout.phi_nodes, ro->strata, plm_fiber_seconds() - started);
+                t->phi_nodes, layout.theta_nodes, layout.phi_nodes, ro->strata, plm_seconds() - started);
     }
     if (t && t->medulla.res.theta_nodes > 0 && after_medulla_loaded) {
         *rng = after_medulla[index];
     } else if (t && t->medulla.res.theta_nodes > 0) {
         double e[3], noise[3];
-        double started = plm_fiber_seconds();
+        double started = plm_seconds();
         medulla_error(t, rng, 8, 64, 100000, e, noise, NULL);
-        fprintf(stderr, "%-28s medulla reference replayed, %.0f s\n", name, plm_fiber_seconds() - started);
+        fprintf(stderr, "%-28s medulla reference replayed, %.0f s\n", name, plm_seconds() - started);
     }
     after_medulla[index] = *rng;
     free(query);
