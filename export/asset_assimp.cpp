@@ -17,7 +17,11 @@
 //    they are;
 //  - its GLB writer pads the binary chunk with the JSON chunk's padding
 //    length instead of its own, so the file can come out a few bytes short
-//    of the length its header states; the binary chunk is padded here.
+//    of the length its header states; the binary chunk is padded here;
+//  - it writes a node's matrix only if aiMatrix4x4::IsIdentity says no,
+//    which allows 0.01 in every element: an offset under 0.01 scene units,
+//    a rotation under half a degree or a 1% scale would be lost;
+//    such nodes get their matrix written into the JSON here.
 #include <assimp/Exporter.hpp>
 #include <assimp/GltfMaterial.h>
 #include <assimp/IOStream.hpp>
@@ -25,6 +29,8 @@
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/scene.h>
+
+#include <cjson/cJSON.h>
 
 #include <cmath>
 #include <cstdio>
@@ -285,6 +291,81 @@ void fix_glb_padding(std::vector<char> &d)
         d[i] = '\0';
 }
 
+// A transform that Assimp's exporter takes for the identity though it is not (see the top).
+bool dropped_by_assimp(const double m[3][4])
+{
+    if (!to_ai(m).IsIdentity())
+        return false;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (m[i][j] != (i == j ? 1.0 : 0.0))
+                return true;
+    return false;
+}
+
+typedef std::map<std::string, int> node_names;
+
+// The nodes whose matrix Assimp leaves out, by name (unique in plumage's assets).
+node_names lost_matrices(const plm_asset *a)
+{
+    node_names lost;
+    for (int i = 0; i < a->node_count; ++i)
+        if (dropped_by_assimp(a->nodes[i].matrix))
+            lost[a->nodes[i].name] = i;
+    return lost;
+}
+
+// The glTF JSON json with the matrices of the lost nodes written in; false
+// if it cannot be parsed or a lost node is not in it.
+bool restore_matrices(std::string &json, const plm_asset *a, const node_names &lost)
+{
+    size_t restored = 0;
+    cJSON *doc = cJSON_ParseWithLength(json.data(), json.size());
+    const cJSON *nodes = doc ? cJSON_GetObjectItem(doc, "nodes") : nullptr, *node;
+    cJSON_ArrayForEach(node, nodes)
+    {
+        const char *name = cJSON_GetStringValue(cJSON_GetObjectItem(node, "name"));
+        auto it = name ? lost.find(name) : lost.end();
+        if (it == lost.end() || cJSON_HasObjectItem(node, "matrix"))
+            continue;
+        const double(*m)[4] = a->nodes[it->second].matrix;
+        double column_major[16];
+        for (int k = 0; k < 16; ++k) // glTF: column by column; the last row 0 0 0 1
+            column_major[k] = k % 4 == 3 ? (k == 15 ? 1.0 : 0.0) : m[k % 4][k / 4];
+        cJSON_AddItemToObject((cJSON *)node, "matrix", cJSON_CreateDoubleArray(column_major, 16));
+        restored++;
+    }
+    char *text = doc && restored == lost.size() ? cJSON_PrintUnformatted(doc) : nullptr;
+    cJSON_Delete(doc);
+    if (!text)
+        return false;
+    json = text;
+    cJSON_free(text);
+    return true;
+}
+
+// The same inside a GLB: its JSON chunk replaced, padded with spaces, and the lengths updated.
+bool restore_glb_matrices(std::vector<char> &d, const plm_asset *a, const node_names &lost)
+{
+    if (d.size() < 20 || 20 + (size_t)read_u32(d, 12) > d.size())
+        return false;
+    size_t json_end = 20 + (size_t)read_u32(d, 12);
+    std::string json(d.data() + 20, json_end - 20);
+    if (!restore_matrices(json, a, lost))
+        return false;
+    json.resize((json.size() + 3) / 4 * 4, ' ');
+    std::vector<char> out(d.begin(), d.begin() + 12);
+    uint32_t json_size = (uint32_t)json.size(), total = (uint32_t)(20 + json.size() + (d.size() - json_end));
+    out.resize(20);
+    std::memcpy(out.data() + 8, &total, 4);
+    std::memcpy(out.data() + 12, &json_size, 4);
+    std::memcpy(out.data() + 16, "JSON", 4);
+    out.insert(out.end(), json.begin(), json.end());
+    out.insert(out.end(), d.begin() + (long)json_end, d.end());
+    d.swap(out);
+    return true;
+}
+
 plm_result write_files(const char *path, const plm_asset *a, file_map &files, plm_error *err)
 {
     // Texture files and buffers first, the file that names them last, so
@@ -334,8 +415,20 @@ plm_result asset_write(const char *path, const plm_asset *a, plm_error *err)
                         exporter.GetErrorString());
     if (!files.count(path))
         return plm_fail(err, PLM_ERR_INTERNAL, "%s: Assimp's glTF exporter wrote no file", path);
+    std::vector<char> &file = files[path];
     if (glb)
-        fix_glb_padding(files[path]);
+        fix_glb_padding(file);
+    node_names lost = lost_matrices(a);
+    bool restored = true;
+    if (!lost.empty() && glb) {
+        restored = restore_glb_matrices(file, a, lost);
+    } else if (!lost.empty()) {
+        std::string json(file.begin(), file.end());
+        restored = restore_matrices(json, a, lost);
+        file.assign(json.begin(), json.end());
+    }
+    if (!restored)
+        return plm_fail(err, PLM_ERR_INTERNAL, "%s: cannot write the matrices Assimp's glTF exporter left out", path);
     return write_files(path, a, files, err);
 }
 

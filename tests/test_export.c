@@ -415,6 +415,40 @@ static void wing_round_trip_as_gltf(void **state)
     assert_int_equal(system("rm -r export_wing"), 0);
 }
 
+/* Transforms within 0.01 of the identity in every element, which Assimp's
+ * exporter takes for the identity and drops (export/asset_assimp.cpp
+ * writes them back): an offset of 0.0006, a 0.3 degree turn and a 0.5% scale
+ * read back as they are, in .glb and .gltf; the identity stays one. */
+static void small_transforms_survive(void **state)
+{
+    (void)state;
+    plm_scene s;
+    plm_scene_init(&s);
+    plm_mesh quad;
+    plm_error err;
+    assert_int_equal(plm_shape_quad(1.0, 1.0, 0.0, 1, &quad, &err), PLM_OK);
+    plm_material m = plm_diffuse_material("grey", rgb_gray(0.5), 0.0);
+    int mesh = plm_scene_add_mesh(&s, "quad", &quad), mat = plm_scene_add_material(&s, &m);
+    plm_xform small[4] = {plm_xform_identity(), plm_xform_translate(v3(0.0, 0.0, -0.0006)),
+                          plm_xform_rotate(v3(0.0, 0.0, 1.0), plm_radians(0.3)),
+                          plm_xform_scale(v3(1.005, 1.005, 1.005))};
+    for (int i = 0; i < 4; ++i)
+        assert_true(plm_scene_add_object(&s, mesh, mat, small[i]) >= 0);
+    const char *files[2] = {"export_small.glb", "export_small.gltf"};
+    for (int f = 0; f < 2; ++f) {
+        plm_gltf_options o = {0};
+        plm_gltf_report r;
+        assert_int_equal(plm_gltf_export(&s, files[f], &o, &r, &err), PLM_OK);
+        plm_asset_summary a;
+        assert_int_equal(plm_asset_read_gltf(files[f], &a, &err), PLM_OK);
+        check_round_trip(&s, &o, &a, &r);
+        plm_asset_summary_free(&a);
+        remove(files[f]);
+    }
+    remove("export_small.bin");
+    plm_scene_free(&s);
+}
+
 /* Bad requests fail with the path in the message and leave no file. */
 static void refusals_leave_nothing(void **state)
 {
@@ -460,6 +494,7 @@ int main(void)
         cmocka_unit_test(bake_agrees_with_the_renderers_furnace),
         cmocka_unit_test(pelt_round_trip),
         cmocka_unit_test(wing_round_trip_as_gltf),
+        cmocka_unit_test(small_transforms_survive),
         cmocka_unit_test(refusals_leave_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
