@@ -124,12 +124,3 @@ void plm_outputs_undo(plm_outputs *o)
         o->at[i].made[0] = '\0';
     }
 }
-
-void plm_print_wrote(const char *const *paths, int n)
-{
-    fputs("wrote", stderr);
-    for (int i = 0; i < n; ++i)
-        if (paths[i] && paths[i][0])
-            fprintf(stderr, " %s", paths[i]);
-    fputc('\n', stderr);
-}

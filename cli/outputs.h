@@ -7,6 +7,8 @@
 #ifndef PLUMAGE_CLI_OUTPUTS_H
 #define PLUMAGE_CLI_OUTPUTS_H
 
+#include "common/progress.h" /* plm_print_wrote */
+
 #define PLM_OUTPUTS_MAX 4
 #define PLM_OUTPUTS_PATH 4096
 
@@ -35,8 +37,5 @@ int plm_images_prefix_ok(const char *prefix);
  * first, as far as they are empty. */
 void plm_outputs_undo(plm_outputs *o);
 
-/* The last line of a command that wrote files: "wrote A B ..." (NULL and ""
- * entries are skipped). */
-void plm_print_wrote(const char *const *paths, int n);
 
 #endif

@@ -7,6 +7,9 @@
 #include <stdio.h>
 #include "common/error.h"
 
+/* The longest path plumage takes, with its terminating zero. */
+#define PLM_PATH_MAX 4096
+
 typedef struct plm_atomic_file {
     FILE *fp;             /* write here */
     char path[4096];      /* final destination */

@@ -66,3 +66,12 @@ void plm_progress_finish(plm_progress *p, double fraction, const char *detail)
 {
     print_line(p, fraction, detail, 1);
 }
+
+void plm_print_wrote(const char *const *paths, int n)
+{
+    fputs("wrote", stderr);
+    for (int i = 0; i < n; ++i)
+        if (paths[i] && paths[i][0])
+            fprintf(stderr, " %s", paths[i]);
+    fputc('\n', stderr);
+}

@@ -28,4 +28,8 @@ void plm_progress_update(plm_progress *p, double fraction, const char *detail);
 /* The last line: the bar at `fraction` with the detail and the time taken. */
 void plm_progress_finish(plm_progress *p, double fraction, const char *detail);
 
+/* The last line of a command that wrote files, on stderr: "wrote A B ..."
+ * (NULL and "" entries are skipped; docs/README.md, "Outputs"). */
+void plm_print_wrote(const char *const *paths, int n);
+
 #endif

@@ -10,6 +10,7 @@
 
 #include "common/curves.h"
 #include "common/error.h"
+#include "common/fileio.h"
 #include "common/image_io.h"
 #include "common/mesh.h"
 #include "common/params.h"
@@ -19,7 +20,6 @@
 #include "render/transform.h"
 
 #define PLM_NAME_MAX 128
-#define PLM_PATH_MAX 4096
 
 typedef struct plm_camera_desc {
     vec3 position, look_at, up;

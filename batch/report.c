@@ -7,8 +7,8 @@
 
 #include <cjson/cJSON.h>
 
-#include "cli/batch.h"
-#include "cli/outputs.h"
+#include "batch/batch.h"
+#include "common/progress.h"
 #include "common/image_io.h"
 
 #define SHEET_TILE_MAX 256 /* widest image tile on the sheet, pixels */

@@ -1,5 +1,7 @@
-/* plumage batch: the parts shared by the local runner, single jobs, the
- * status and report, and the Slurm submission. Every job owns a folder
+/* Batches of render jobs run, resumed, reported and submitted to Slurm: the
+ * local runner, single jobs, the status and report, the Slurm scripts. The
+ * library renders nothing itself: a job's render is the command's, behind a
+ * job callback (plm_batch_render_fn). Every job owns a folder
  * under the output folder; what is in it says how far the job got:
  *   summary.json  written last, atomically: the job is done (if its key and
  *                 output hashes still match)
@@ -7,13 +9,14 @@
  *   started.json  the job started and has not finished: running (if its
  *                 process is alive on this host) or killed
  * docs/batch.md describes the layout. */
-#ifndef PLUMAGE_CLI_BATCH_H
-#define PLUMAGE_CLI_BATCH_H
+#ifndef PLUMAGE_BATCH_BATCH_H
+#define PLUMAGE_BATCH_BATCH_H
 
+#include <signal.h>
 #include <stddef.h>
 
 #include "batch/manifest.h"
-#include "render/scene.h"
+#include "common/fileio.h"
 
 typedef struct plm_batch {
     char manifest_path[PLM_PATH_MAX]; /* absolute: tasks may run elsewhere */
@@ -45,10 +48,39 @@ int plm_batch_job_path(const plm_batch *b, int job, const char *file, char *out,
 /* Reads the job's folder (see above). */
 void plm_batch_job_status(const plm_batch *b, int job, plm_job_status *st);
 
-/* Runs one job in this process (`--job N`): the job's folder is cleaned of
- * temporaries and stale records, the images and summary written. Returns
- * the exit status; SIGTERM or SIGINT stop the render and fail the job. */
-int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet);
+/* One job's render as plm_batch_run_job asks the command for it, and the
+ * figures the job's summary records, which the render reports back. */
+typedef struct plm_batch_render {
+    const plm_batch_job *job;      /* the scene, its overrides, spp, size and seed (0, -1: the scene's) */
+    int threads, progress;         /* threads 0: all cores */
+    volatile sig_atomic_t *cancel; /* set by SIGTERM or SIGINT: stop, and write no image */
+    const char *png, *exr, *resolved; /* the images and the resolved scene, in the job's folder */
+    const char *asset_dir;         /* the generated feathers' files go here; NULL: none */
+    /* reported back */
+    int width, height, spp, threads_used, interrupted;
+    unsigned long long seed;
+    long long samples, nonfinite;
+    double load_seconds, render_seconds, write_seconds;
+    char error[1024]; /* why it failed */
+} plm_batch_render;
+
+/* The command's renderer: renders r->job into r's outputs and fills in the
+ * figures. Returns the exit status: 0, 1 on an error (r->error says why),
+ * 130 if r->cancel stopped it. */
+typedef int (*plm_batch_render_fn)(plm_batch_render *r, void *ctx);
+
+/* Runs one job in this process (`--job N`) through render(r, ctx): the job's
+ * folder is cleaned of temporaries and stale records, the images and summary
+ * written. Returns the exit status; SIGTERM or SIGINT stop the render and
+ * fail the job. */
+int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet, plm_batch_render_fn render, void *ctx);
+
+/* Runs the jobs not done, `parallel` at once (0: one per core) with `threads`
+ * each (0: the cores left over), each as a child process of this executable,
+ * `SELF batch MANIFEST -o OUT --job N --threads T --quiet`, which the command
+ * must answer with plm_batch_run_job; then gathers (plm_batch_gather).
+ * SIGINT or SIGTERM stop the jobs. Returns the exit status (130: stopped). */
+int plm_batch_run_local(const plm_batch *b, int parallel, int threads, int quiet);
 
 /* Reads every job's state; writes report.json and, for a sweep, the labelled
  * contact sheet. Prints each job not done with its reason (`explain`), or

@@ -10,8 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli/batch.h"
-#include "cli/outputs.h"
+#include "batch/batch.h"
+#include "common/progress.h"
 #include "common/fileio.h"
 
 /* 'text' for the shell, with embedded quotes escaped. */

@@ -13,10 +13,8 @@
 
 #include <cjson/cJSON.h>
 
-#include "cli/batch.h"
+#include "batch/batch.h"
 #include "common/clock.h"
-#include "cli/bench.h"
-#include "cli/render_job.h"
 #include "common/fileio.h"
 #include "common/json.h"
 
@@ -316,7 +314,7 @@ static int add_outputs_under(const plm_batch *b, int job, const char *folder, cJ
     return ok;
 }
 
-static cJSON *summary_document(const plm_batch *b, int job, const plm_render_job *rj, double total)
+static cJSON *summary_document(const plm_batch *b, int job, const plm_batch_render *rj, double total)
 {
     const plm_batch_job *bj = &b->m.jobs[job];
     char key[17];
@@ -326,11 +324,11 @@ static cJSON *summary_document(const plm_batch *b, int job, const plm_render_job
     cJSON_AddStringToObject(doc, "scene", bj->scene);
     cJSON_AddItemToObject(doc, "set", string_array(bj->sets, bj->n_sets));
     cJSON_AddStringToObject(doc, "label", bj->label);
-    cJSON_AddNumberToObject(doc, "width", rj->out_width);
-    cJSON_AddNumberToObject(doc, "height", rj->out_height);
-    cJSON_AddNumberToObject(doc, "spp", rj->out_spp);
-    cJSON_AddNumberToObject(doc, "seed", (double)rj->out_seed);
-    cJSON_AddNumberToObject(doc, "threads", rj->used_threads);
+    cJSON_AddNumberToObject(doc, "width", rj->width);
+    cJSON_AddNumberToObject(doc, "height", rj->height);
+    cJSON_AddNumberToObject(doc, "spp", rj->spp);
+    cJSON_AddNumberToObject(doc, "seed", (double)rj->seed);
+    cJSON_AddNumberToObject(doc, "threads", rj->threads_used);
     cJSON_AddNumberToObject(doc, "samples", (double)rj->samples);
     cJSON_AddNumberToObject(doc, "nonfinite_samples", (double)rj->nonfinite);
     cJSON *sec = cJSON_AddObjectToObject(doc, "seconds");
@@ -352,7 +350,7 @@ static cJSON *summary_document(const plm_batch *b, int job, const plm_render_job
     return doc;
 }
 
-int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
+int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet, plm_batch_render_fn render, void *ctx)
 {
     const plm_batch_job *bj = &b->m.jobs[job];
     char dir[PLM_PATH_MAX], path[PLM_PATH_MAX];
@@ -371,25 +369,19 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
     if (!ok)
         return 1;
 
-    plm_render_job rj;
+    plm_batch_render rj;
     memset(&rj, 0, sizeof rj);
-    rj.scene = bj->scene;
-    rj.sets = (const char *const *)bj->sets;
-    rj.n_sets = bj->n_sets;
-    rj.spp = bj->spp;
-    rj.width = bj->width;
-    rj.height = bj->height;
-    rj.seed = bj->seed;
-    rj.max_depth = -1;
+    rj.job = bj;
     rj.threads = threads;
     rj.progress = !quiet;
     rj.cancel = &stop_job;
-    rj.discard_interrupted = 1;
-    char resolved[PLM_PATH_MAX], assets[PLM_PATH_MAX];
-    plm_batch_job_path(b, job, outputs[0], rj.png, sizeof rj.png);
-    plm_batch_job_path(b, job, outputs[1], rj.exr, sizeof rj.exr);
+    char png[PLM_PATH_MAX], exr[PLM_PATH_MAX], resolved[PLM_PATH_MAX], assets[PLM_PATH_MAX];
+    plm_batch_job_path(b, job, outputs[0], png, sizeof png);
+    plm_batch_job_path(b, job, outputs[1], exr, sizeof exr);
     plm_batch_job_path(b, job, outputs[2], resolved, sizeof resolved);
     plm_batch_job_path(b, job, ASSETS, assets, sizeof assets);
+    rj.png = png;
+    rj.exr = exr;
     rj.resolved = resolved;
     rj.asset_dir = bj->assets ? assets : NULL;
     /* A scheduler stops a task with SIGTERM (time limit, scancel): the render
@@ -400,7 +392,7 @@ int plm_batch_run_job(const plm_batch *b, int job, int threads, int quiet)
     sa.sa_flags = SA_RESETHAND;
     sigaction(SIGTERM, &sa, &old_term);
     sigaction(SIGINT, &sa, &old_int);
-    int status = plm_render_job_run(&rj);
+    int status = render(&rj, ctx);
     sigaction(SIGTERM, &old_term, NULL);
     sigaction(SIGINT, &old_int, NULL);
     if (status != 0)
