@@ -2,8 +2,8 @@
  * through (optics/fiber_grid.h), and the builds' thread pool. */
 #include "optics/fiber_grid.h"
 #include "common/clock.h"
+#include "common/threads.h"
 
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -113,15 +113,9 @@ static void *parallel_worker(void *arg)
 int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch_bytes, int lobes, int threads,
                        int quiet, const char *what, double started)
 {
-    threads = threads > 0 ? threads : plm_cores();
     parallel_run r = {work, ctx, items, lobes, scratch_bytes, 0, 0, 0};
-    pthread_t *tid = calloc((size_t)threads, sizeof *tid);
-    if (!tid)
-        return 0;
-    int launched = 0;
-    for (int i = 0; i < threads; ++i)
-        if (pthread_create(&tid[launched], NULL, parallel_worker, &r) == 0)
-            ++launched;
+    plm_threads pool;
+    int launched = plm_threads_start(&pool, threads, parallel_worker, &r);
     if (launched == 0)
         parallel_worker(&r);
     /* Progress once the build has taken a second; each phase ends with its line. */
@@ -137,11 +131,9 @@ int plm_fiber_parallel(plm_fiber_work work, void *ctx, int items, size_t scratch
             plm_progress_update(&progress, (double)atomic_load(&r.done) / items, detail);
         }
     }
-    for (int i = 0; i < launched; ++i)
-        pthread_join(tid[i], NULL);
+    plm_threads_join(&pool);
     if (progress.start != 0.0)
         plm_progress_finish(&progress, (double)atomic_load(&r.done) / items, detail);
-    free(tid);
     return !atomic_load(&r.failed);
 }
 

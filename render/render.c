@@ -1,6 +1,7 @@
 /* Film, tiles, threads, passes, progress and output. */
 #include "render/render.h"
 #include "common/clock.h"
+#include "common/threads.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -160,19 +161,16 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
         return rc;
     film->width = fd->width;
     film->height = fd->height;
-    film->threads = opt->threads > 0 ? opt->threads : plm_cores();
     size_t pixels = (size_t)film->width * film->height;
     job *j = calloc(1, sizeof *j);
     film->rgb = calloc(pixels * 3, sizeof *film->rgb);
     film->samples = calloc(pixels, sizeof *film->samples);
-    pthread_t *threads = calloc((size_t)film->threads, sizeof *threads);
     if (j)
         j->sum = calloc(pixels * 3, sizeof *j->sum);
-    if (!j || !j->sum || !film->rgb || !film->samples || !threads) {
+    if (!j || !j->sum || !film->rgb || !film->samples) {
         if (j)
             free(j->sum);
         free(j);
-        free(threads);
         plm_film_free(film);
         return plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory for a %dx%d film", film->width, film->height);
     }
@@ -194,10 +192,8 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     plm_progress progress;
     if (opt->progress)
         plm_progress_start(&progress, "render");
-    int started = 0;
-    for (; started < film->threads; ++started)
-        if (pthread_create(&threads[started], NULL, worker, j) != 0)
-            break;
+    plm_threads threads;
+    int started = plm_threads_start(&threads, opt->threads, worker, j); /* 0: one per core */
     film->threads = started > 0 ? started : 1;
     pthread_barrier_init(&j->barrier, NULL, (unsigned)film->threads);
     pthread_mutex_lock(&j->gate_lock);
@@ -215,8 +211,7 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
             last_draw = t;
         }
     }
-    for (int i = 0; i < started; ++i)
-        pthread_join(threads[i], NULL);
+    plm_threads_join(&threads);
     film->seconds = plm_seconds() - t0;
     if (opt->progress)
         draw_progress(j, &progress, film->seconds, 1);
@@ -233,7 +228,6 @@ plm_result plm_render_world(const plm_world *world, const plm_render_options *op
     film->interrupted = film->sample_count < (long long)pixels * j->spp;
     free(j->sum);
     free(j);
-    free(threads);
     return PLM_OK;
 }
 
