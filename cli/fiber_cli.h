@@ -7,13 +7,14 @@
 #include "optics/fiber.h"
 
 /* Command-line values (angles in degrees), filled with the defaults by plm_fiber_cli_options. */
+#define PLM_FIBER_CLI_OPTIONS 9
+
 typedef struct plm_fiber_cli {
     double eccentricity, eta, sigma_a[3], beta_m_deg, beta_n_deg;
     double medulla_axes[2], medulla_centre[2], medulla_reflectance[3];
     int lobes;
+    plm_option_text text[PLM_FIBER_CLI_OPTIONS]; /* the options' names and help, from the fiber table */
 } plm_fiber_cli;
-
-#define PLM_FIBER_CLI_OPTIONS 9
 
 /* Sets c to the defaults and writes the PLM_FIBER_CLI_OPTIONS options that
  * fill it into opts; --lobes accepts [1, max_lobes]. */

@@ -154,6 +154,35 @@ int plm_option_check_open(const plm_option *o, const plm_param_block *b, const c
     return 1;
 }
 
+static plm_opt_kind option_kind(plm_param_type t, int *count)
+{
+    *count = t == PLM_PARAM_RGB || t == PLM_PARAM_VEC3 ? 3 : t == PLM_PARAM_PAIR ? 2 : 1;
+    return t == PLM_PARAM_INT ? PLM_OPT_INT : *count > 1 ? PLM_OPT_DOUBLES : PLM_OPT_DOUBLE;
+}
+
+void plm_option_param(plm_option *o, plm_option_text *text, const plm_param_block *b, const char *field, void *target,
+                      const char *metavar)
+{
+    const plm_param *p = table_field(b, field);
+    snprintf(text->name, sizeof text->name, "--%s", field);
+    for (char *c = text->name; *c; ++c)
+        *c = *c == '_' ? '-' : *c;
+    int count;
+    *o = (plm_option){text->name, option_kind(p->type, &count), target, count, p->min, p->max, NULL, metavar,
+                      text->help, 0};
+    char value[96];
+    if (o->kind == PLM_OPT_INT)
+        snprintf(value, sizeof value, "%d", *(const int *)target);
+    else {
+        const double *v = target;
+        int n = snprintf(value, sizeof value, "%g", v[0]);
+        for (int i = 1; i < count; ++i)
+            n += snprintf(value + n, sizeof value - (size_t)n, ",%g", v[i]);
+    }
+    snprintf(text->help, sizeof text->help, "%s%s%s%s; default %s", p->meaning, p->unit[0] ? " (" : "", p->unit,
+             p->unit[0] ? ")" : "", value);
+}
+
 void plm_print_help(FILE *out, const plm_command_help *help, const plm_option *opts, int n_opts)
 {
     fprintf(out, "usage: %s\n\n", help->usage);

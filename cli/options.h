@@ -53,6 +53,17 @@ int plm_parse_options(const plm_command_help *help, int argc, char **argv, int f
  * an option accepts what the scene and species files accept. Aborts if the
  * table has no such field (a programming error). */
 void plm_option_range_from(plm_option *o, const plm_param_block *b, const char *field);
+/* The name and help text an option built from a table holds. */
+typedef struct plm_option_text {
+    char name[48], help[320];
+} plm_option_text;
+/* Makes *o the option of a parameter table's field: its name ("--beta-m" for
+ * beta_m), kind, range, meaning and unit are the table's, as scene and species
+ * files have them, and its help ends with the default, the value target
+ * holds now (angles in degrees, as on the command line). The text goes into
+ * *text, which must outlive o. Open bounds: plm_option_check_open. */
+void plm_option_param(plm_option *o, plm_option_text *text, const plm_param_block *b, const char *field, void *target,
+                      const char *metavar);
 /* After parsing: a PLM_OPT_DOUBLE's value on a bound the table leaves open
  * is refused as the parser refuses the others, naming the option and the
  * range ("(0, 20]"). Returns 0 (message on stderr) if so, else 1. */

@@ -17,30 +17,18 @@ void plm_fiber_cli_options(plm_fiber_cli *c, plm_option *opts, int max_lobes)
                          .medulla_reflectance = {d.medulla_reflectance.r, d.medulla_reflectance.g,
                                                  d.medulla_reflectance.b},
                          .lobes = d.lobes};
-    const plm_option table[PLM_FIBER_CLI_OPTIONS] = {
-        {"--eccentricity", PLM_OPT_DOUBLE, &c->eccentricity, 1, 0.01, 100, NULL, "E",
-         "cortex semi-axis along e3 (the one along e2 is 1); default 1", 0},
-        {"--eta", PLM_OPT_DOUBLE, &c->eta, 1, 1, 4, NULL, "ETA", "cortex refractive index; default 1.55", 0},
-        {"--sigma-a", PLM_OPT_DOUBLES, c->sigma_a, 3, 0, 1e4, NULL, "R,G,B",
-         "cortex absorption per unit path length; default 0,0,0", 0},
-        {"--beta-m", PLM_OPT_DOUBLE, &c->beta_m_deg, 1, 0.5, 90, NULL, "DEG",
-         "longitudinal roughness (detector std-dev); default 7.4485 (0.13 rad, paper Fig. 7)", 0},
-        {"--beta-n", PLM_OPT_DOUBLE, &c->beta_n_deg, 1, 0.5, 90, NULL, "DEG",
-         "azimuthal roughness (detector std-dev); default 6.8755 (0.12 rad, paper Fig. 7)", 0},
-        {"--medulla-axes", PLM_OPT_DOUBLES, c->medulla_axes, 2, 0, 100, NULL, "A,B",
-         "medulla semi-axes along e2, e3; default 0,0 = no medulla", 0},
-        {"--medulla-centre", PLM_OPT_DOUBLES, c->medulla_centre, 2, -100, 100, NULL, "CA,CB",
-         "medulla centre along e2, e3 (strictly inside the cortex); default 0,0", 0},
-        {"--medulla-reflectance", PLM_OPT_DOUBLES, c->medulla_reflectance, 3, 0, 1, NULL, "R,G,B",
-         "Lambertian albedo of the medulla; default 1,1,1", 0},
-        {"--lobes", PLM_OPT_INT, &c->lobes, 1, 1, max_lobes, NULL, "N", "lobes traced per path; default 5", 0},
-    };
-    memcpy(opts, table, sizeof table);
-    /* The ranges are the fiber table's (optics/fiber.h), as in scene files. */
-    static const char *const fields[PLM_FIBER_CLI_OPTIONS - 1] = {
-        "eccentricity", "eta", "sigma_a", "beta_m", "beta_n", "medulla_axes", "medulla_centre", "medulla_reflectance"};
-    for (int i = 0; i < PLM_FIBER_CLI_OPTIONS - 1; ++i)
-        plm_option_range_from(&opts[i], &plm_fiber_param_block, fields[i]);
+    /* Names, ranges, meanings and units are the fiber table's (optics/fiber_params.h), as in scene files. */
+    static const char *const fields[PLM_FIBER_CLI_OPTIONS] = {
+        "eccentricity", "eta",           "sigma_a",        "beta_m",         "beta_n", "medulla_axes",
+        "medulla_centre", "medulla_reflectance", "lobes"};
+    static const char *const metavars[PLM_FIBER_CLI_OPTIONS] = {"E", "ETA", "R,G,B", "DEG", "DEG", "A,B", "CA,CB",
+                                                               "R,G,B", "N"};
+    void *const targets[PLM_FIBER_CLI_OPTIONS] = {&c->eccentricity, &c->eta, c->sigma_a, &c->beta_m_deg,
+                                                  &c->beta_n_deg, c->medulla_axes, c->medulla_centre,
+                                                  c->medulla_reflectance, &c->lobes};
+    for (int i = 0; i < PLM_FIBER_CLI_OPTIONS; ++i)
+        plm_option_param(&opts[i], &c->text[i], &plm_fiber_param_block, fields[i], targets[i], metavars[i]);
+    opts[PLM_FIBER_CLI_OPTIONS - 1].hi = max_lobes; /* what the command can trace */
 }
 
 int plm_fiber_cli_params(const plm_fiber_cli *c, const char *command, plm_fiber_params *p)

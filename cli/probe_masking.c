@@ -291,19 +291,6 @@ int probe_masking(int argc, char **argv)
 {
     probe_args a = {1.0, 1.0, 1.0, 1.0, 45.0, 0.0, 0.0, 0.0, LEVEL_FULL, 0, 4096, 1, 240, 0, 0, NULL};
     plm_option opts[OPT_COUNT] = {
-        [OPT_BARB_E] = {"--barb-eccentricity", PLM_OPT_DOUBLE, &a.barb_e, 0, 1e-6, 20, NULL, "E",
-                        "barb extent along n / along b (default 1)", 0},
-        [OPT_BARBULE_E] = {"--barbule-eccentricity", PLM_OPT_DOUBLE, &a.barbule_e, 0, 1e-6, 20, NULL, "E",
-                           "barbule extent along r2 / along r1 (default 1)", 0},
-        [OPT_LENGTH] = {"--barbule-length", PLM_OPT_DOUBLE, &a.length, 0, 1e-6, 100, NULL, "L",
-                        "barbule length in barb half-widths (default 1)", 0},
-        [OPT_SEPARATION] = {"--barbule-separation", PLM_OPT_DOUBLE, &a.separation, 0, 0, 100, NULL, "S",
-                            "gap between barbules / barbule width (default 1)", 0},
-        [OPT_ROTATION] = {"--barbule-rotation", PLM_OPT_DOUBLE, &a.rotation_deg, 0, 0, 90, NULL, "DEG",
-                          "angle of a barbule to the barb axis within its row, degrees in (0, 90) (default 45)", 0},
-        [OPT_INCLINATION] = {"--barbule-inclination", PLM_OPT_DOUBLE, &a.inclination_deg, 0, -90, 90, NULL, "DEG",
-                             "tilt of the rows about the barb axis toward n (< 0: away), degrees in (-90, 90) "
-                             "(default 0)", 0},
         [OPT_T_PROXIMAL] = {"--proximal-transmittance", PLM_OPT_DOUBLE, &a.t_proximal, 0, 0, 1, NULL, "T",
                             "--level barb: proximal barbule-level transmittance (default 0)", 0},
         [OPT_T_DISTAL] = {"--distal-transmittance", PLM_OPT_DOUBLE, &a.t_distal, 0, 0, 1, NULL, "T",
@@ -325,13 +312,20 @@ int probe_masking(int argc, char **argv)
         [OPT_WIDTH] = {"--width", PLM_OPT_INT, &a.width, 0, 8, 4096, NULL, "PIXELS",
                        "width of each picture panel; height is half (default 240)", 0},
     };
-    /* The geometry's ranges are the masking table's (optics/masking.h), as in scene files. */
-    static const struct { int option; const char *field; } from_table[] = {
-        {OPT_BARB_E, "barb_eccentricity"},   {OPT_BARBULE_E, "barbule_eccentricity"},
-        {OPT_LENGTH, "barbule_length"},      {OPT_SEPARATION, "barbule_separation"},
-        {OPT_ROTATION, "barbule_rotation"},  {OPT_INCLINATION, "barbule_inclination"}};
-    for (size_t i = 0; i < sizeof from_table / sizeof from_table[0]; ++i)
-        plm_option_range_from(&opts[from_table[i].option], &plm_masking_param_block, from_table[i].field);
+    /* The geometry's options are the masking table's fields (optics/masking.h): names, ranges, meanings and
+     * units as in scene files. */
+    const struct { int option; const char *field; double *target; const char *metavar; } from_table[] = {
+        {OPT_BARB_E, "barb_eccentricity", &a.barb_e, "E"},
+        {OPT_BARBULE_E, "barbule_eccentricity", &a.barbule_e, "E"},
+        {OPT_LENGTH, "barbule_length", &a.length, "L"},
+        {OPT_SEPARATION, "barbule_separation", &a.separation, "S"},
+        {OPT_ROTATION, "barbule_rotation", &a.rotation_deg, "DEG"},
+        {OPT_INCLINATION, "barbule_inclination", &a.inclination_deg, "DEG"}};
+    enum { FROM_TABLE = sizeof from_table / sizeof from_table[0] };
+    plm_option_text text[FROM_TABLE];
+    for (size_t i = 0; i < FROM_TABLE; ++i)
+        plm_option_param(&opts[from_table[i].option], &text[i], &plm_masking_param_block, from_table[i].field,
+                         from_table[i].target, from_table[i].metavar);
     plm_command_help help = {
         "plumage probe masking [options] < directions",
         "Barb and barbule masking (paper Sec. 6.1) for view directions read from stdin, one per line.\n"
@@ -348,7 +342,7 @@ int probe_masking(int argc, char **argv)
     int rc = plm_parse_options(&help, argc, argv, 1, opts, OPT_COUNT, NULL, 0, NULL);
     if (rc)
         return rc == 1 ? 0 : 2;
-    for (size_t i = 0; i < sizeof from_table / sizeof from_table[0]; ++i)
+    for (size_t i = 0; i < FROM_TABLE; ++i)
         if (!plm_option_check_open(&opts[from_table[i].option], &plm_masking_param_block, from_table[i].field))
             return 2;
     for (int i = 0; i < OPT_COUNT; ++i)
