@@ -31,6 +31,7 @@ typedef struct bench_ctx {
     plm_masking_model model;
     plm_feather_params feather;
     plm_feather_model prepared; /* of feather */
+    plm_fiber_table_set tables; /* prepared's */
     plm_feather_texture texture;
     frame barb; /* a tilted barb frame in world space */
     plm_rng rng;
@@ -112,7 +113,8 @@ static plm_result prepare_feather(bench_ctx *c, plm_error *err)
     c->feather.masking.barbule_length = 3.0;
     c->feather.masking.barbule_inclination = plm_radians(45.0);
     plm_feather_model_init(&c->prepared, &c->feather);
-    plm_result rc = plm_feather_model_build_tables(&c->prepared, NULL, err);
+    plm_fiber_table_set_init(&c->tables, NULL);
+    plm_result rc = plm_feather_model_build_tables(&c->prepared, &c->tables, err);
     if (rc != PLM_OK)
         return rc;
     c->barb.y = v3_normalize(v3(0.3, 0.9, 0.2));
@@ -154,7 +156,7 @@ int bench_masking(int argc, char **argv)
     plm_error err;
     if (prepare_feather(c, &err) != PLM_OK) {
         fprintf(stderr, "error: %s\n", err.message);
-        plm_feather_model_free_tables(&c->prepared);
+        plm_fiber_table_set_free(&c->tables);
         free(c);
         return 1;
     }
@@ -190,7 +192,7 @@ int bench_masking(int argc, char **argv)
            "  %8.1f ns per plm_feather_masking (filter candidate, far field)\n"
            "  %8.1f ns per plm_feather_prepare_masked (shading point, masking kept from the filter)\n",
            ns_window, ns_masking, ns_prepare);
-    plm_feather_model_free_tables(&c->prepared);
+    plm_fiber_table_set_free(&c->tables);
     plm_feather_texture_free(&c->texture);
     free(c);
     return 0;

@@ -13,7 +13,7 @@
 #include "common/image_io.h"
 #include "export/asset.h"
 #include "optics/feather_bsdf.h"
-#include "optics/fiber_table.h"
+#include "optics/fiber_table_set.h"
 #include "render/material.h"
 
 void plm_gltf_root_matrix(const plm_scene *scene, double m[3][4])
@@ -270,12 +270,14 @@ static plm_result albedo_of(builder *b, int mi, plm_bake_albedo *baked, const vo
         }
     plm_prepared_material prepared;
     plm_material_prepare(m, &prepared);
-    plm_fiber_table_options tables = {.threads = b->o->table_threads, .budget_mib = b->scene->film.fiber_table_mib};
+    /* Tens of MiB per optics, needed for nothing else here: one set at a time. */
+    plm_fiber_table_set tables;
+    plm_fiber_table_set_init(&tables, &(plm_fiber_table_options){.threads = b->o->table_threads,
+                                                                 .budget_mib = b->scene->film.fiber_table_mib});
     plm_result rc = plm_material_prepare_tables(m, &tables, &prepared, err);
     if (rc == PLM_OK)
         rc = plm_bake_albedo_of(m, &prepared, &b->o->bake, out, err);
-    /* Tens of MiB per optics, needed for nothing else here: one set at a time. */
-    plm_prepared_material_free(&prepared);
+    plm_fiber_table_set_free(&tables);
     baked[mi] = *out;
     done[mi] = optics;
     return rc;

@@ -22,23 +22,15 @@ void plm_feather_model_init(plm_feather_model *m, const plm_feather_params *p)
     m->table[0] = m->table[1] = NULL;
 }
 
-plm_result plm_feather_model_build_tables(plm_feather_model *m, const plm_fiber_table_options *o, plm_error *err)
+plm_result plm_feather_model_build_tables(plm_feather_model *m, plm_fiber_table_set *set, plm_error *err)
 {
     const plm_fiber_params *fiber[2] = {&m->params->barb, &m->params->barbule};
     for (int k = 0; k < 2 && m->params->bcsdf == PLM_BCSDF_TABULATED; ++k) {
-        plm_result rc = m->table[k] ? PLM_OK : plm_fiber_table_get(fiber[k], o, &m->table[k], err);
+        plm_result rc = m->table[k] ? PLM_OK : plm_fiber_table_set_get(set, fiber[k], &m->table[k], err);
         if (rc != PLM_OK)
             return rc;
     }
     return PLM_OK;
-}
-
-void plm_feather_model_free_tables(plm_feather_model *m)
-{
-    for (int k = 0; k < 2; ++k) {
-        plm_fiber_table_free(m->table[k]);
-        m->table[k] = NULL;
-    }
 }
 
 plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *err)

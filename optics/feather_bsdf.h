@@ -19,6 +19,7 @@
 #include "common/vec.h"
 #include "optics/fiber.h"
 #include "optics/fiber_bcsdf.h"
+#include "optics/fiber_table_set.h"
 #include "optics/masking.h"
 
 /* The fiber BCSDF estimator of a feather (docs/fiber.md). */
@@ -48,16 +49,16 @@ plm_result plm_feather_params_validate(const plm_feather_params *p, plm_error *e
 typedef struct plm_feather_model {
     const plm_feather_params *params;
     plm_masking_model masking;
-    /* Tables of the barb and the barbule fiber, owned; NULL until
-     * plm_feather_model_build_tables (the stochastic estimator serves until then). */
-    plm_fiber_table *table[2];
+    /* Tables of the barb and the barbule fiber, from a table set that
+     * outlives the model; NULL until plm_feather_model_build_tables (the
+     * stochastic estimator serves until then). */
+    const plm_fiber_table *table[2];
 } plm_feather_model;
 
 /* Prepares the masking of p, without tables. */
 void plm_feather_model_init(plm_feather_model *m, const plm_feather_params *p);
-/* Gets the fiber tables if the estimator is tabulated (a no-op if they are there). */
-plm_result plm_feather_model_build_tables(plm_feather_model *m, const plm_fiber_table_options *o, plm_error *err);
-void plm_feather_model_free_tables(plm_feather_model *m);
+/* Gets the fiber tables from set if the estimator is tabulated (a no-op if they are there). */
+plm_result plm_feather_model_build_tables(plm_feather_model *m, plm_fiber_table_set *set, plm_error *err);
 
 /* The barb frame (docs/masking.md) at a vane point, as a frame with x = b, y = n,
  * z = t: t = the texture's direction (cos a dP/du + sin a dP/dv) projected

@@ -97,6 +97,11 @@ plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_optio
 /* Both parts' copies of their rows' energies (bound_energy), once the data is built or read. */
 void plm_fiber_table_bound_energies(plm_fiber_table *t);
 
+/* The numbers a table depends on besides its options (its cache key's
+ * parameters): fibers whose words are equal have the same table. */
+enum { PLM_FIBER_TABLE_PARAM_WORDS = 16 };
+void plm_fiber_table_param_words(const plm_fiber_params *p, double w[PLM_FIBER_TABLE_PARAM_WORDS]);
+
 /* The cache file the table for (p, o) lives in; returns 0 if there is no cache directory. */
 int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_options *o, char *path,
                                size_t size);

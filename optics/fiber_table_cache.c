@@ -14,28 +14,26 @@
 
 #include "common/fileio.h"
 
-enum { PARAM_WORDS = 16 };
-
 typedef struct cache_header {
     char magic[8];
     uint32_t version, header_bytes;
     uint64_t key;
     int32_t theta_nodes, phi_nodes, h_cells, phi_bins, symmetry, grazing_nodes, grazing_cells, reserved;
     int32_t medulla[8]; /* the medulla part's resolution */
-    double params[PARAM_WORDS];
+    double params[PLM_FIBER_TABLE_PARAM_WORDS];
     uint64_t floats, checksum;
 } cache_header;
 
 static const char cache_magic[8] = {'P', 'L', 'M', 'F', 'T', 'A', 'B', '\n'};
 
-/* The parameters as numbers (+ 0.0 makes -0 and 0 alike). */
-static void param_words(const plm_fiber_params *p, double *w)
+/* + 0.0 makes -0 and 0 alike. */
+void plm_fiber_table_param_words(const plm_fiber_params *p, double w[PLM_FIBER_TABLE_PARAM_WORDS])
 {
-    const double v[PARAM_WORDS] = {p->eccentricity, p->eta, p->sigma_a.r, p->sigma_a.g, p->sigma_a.b,
+    const double v[PLM_FIBER_TABLE_PARAM_WORDS] = {p->eccentricity, p->eta, p->sigma_a.r, p->sigma_a.g, p->sigma_a.b,
                                    p->beta_m, p->beta_n, p->medulla_a, p->medulla_b, p->medulla_ca,
                                    p->medulla_cb, p->medulla_reflectance.r, p->medulla_reflectance.g,
                                    p->medulla_reflectance.b, (double)p->lobes, 0.0};
-    for (int i = 0; i < PARAM_WORDS; ++i)
+    for (int i = 0; i < PLM_FIBER_TABLE_PARAM_WORDS; ++i)
         w[i] = v[i] + 0.0;
 }
 
@@ -82,7 +80,7 @@ static void expected_header(const plm_fiber_table *t, cache_header *h)
     const int32_t medulla[8] = {r->theta_nodes, r->phi_nodes, r->h_cells,  r->theta_bins,
                                 r->phi_bins,  r->directions, r->points, r->records};
     memcpy(h->medulla, medulla, sizeof medulla);
-    param_words(&t->params, h->params);
+    plm_fiber_table_param_words(&t->params, h->params);
     h->floats = t->floats;
     h->key = fnv1a(fnv_basis, h, offsetof(cache_header, key));
     h->key = fnv1a(h->key, &h->theta_nodes, offsetof(cache_header, checksum) - offsetof(cache_header, theta_nodes));

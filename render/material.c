@@ -138,21 +138,14 @@ void plm_material_prepare(const plm_material *m, plm_prepared_material *out)
         plm_feather_model_init(&out->feather, m->feather);
 }
 
-plm_result plm_material_prepare_tables(const plm_material *m, const plm_fiber_table_options *o,
-                                       plm_prepared_material *p, plm_error *err)
+plm_result plm_material_prepare_tables(const plm_material *m, plm_fiber_table_set *set, plm_prepared_material *p,
+                                       plm_error *err)
 {
     if (m->feather)
-        return plm_feather_model_build_tables(&p->feather, o, err);
+        return plm_feather_model_build_tables(&p->feather, set, err);
     if (m->fiber && !m->fiber->stochastic && !p->fiber_table)
-        return plm_fiber_table_get(&m->fiber->fiber, o, &p->fiber_table, err);
+        return plm_fiber_table_set_get(set, &m->fiber->fiber, &p->fiber_table, err);
     return PLM_OK;
-}
-
-void plm_prepared_material_free(plm_prepared_material *p)
-{
-    plm_feather_model_free_tables(&p->feather);
-    plm_fiber_table_free(p->fiber_table);
-    p->fiber_table = NULL;
 }
 
 /* (1 - w) white + w c */

@@ -28,15 +28,15 @@
  * prepares one for each material that owns its optics (plm_world_build). */
 typedef struct plm_prepared_material {
     plm_feather_model feather;    /* feather only */
-    plm_fiber_table *fiber_table; /* fiber only; NULL: the stochastic estimator */
+    const plm_fiber_table *fiber_table; /* fiber only, from a table set; NULL: the stochastic estimator */
 } plm_prepared_material;
 
 /* m's prepared feather masking, without tables. */
 void plm_material_prepare(const plm_material *m, plm_prepared_material *out);
-/* Adds the fiber tables m's estimator needs (none for the stochastic one). */
-plm_result plm_material_prepare_tables(const plm_material *m, const plm_fiber_table_options *o,
-                                       plm_prepared_material *p, plm_error *err);
-void plm_prepared_material_free(plm_prepared_material *p);
+/* Adds the fiber tables m's estimator needs (none for the stochastic one)
+ * from set, which must outlive p. */
+plm_result plm_material_prepare_tables(const plm_material *m, plm_fiber_table_set *set, plm_prepared_material *p,
+                                       plm_error *err);
 
 /* What a material needs to know about the surface at a hit, in world space. */
 typedef struct plm_hit {

@@ -406,8 +406,8 @@ static int optics_owner(const plm_scene *s, int i)
 
 /* What rendering derives from each material, once per set of optics: the
  * feathers' prepared masking (docs/masking.md) and fiber tables (built once,
- * cached on disk; docs/fiber.md), and the tables of the fibers that
- * instances use. The scene is not touched. */
+ * cached on disk, one per distinct fiber; docs/fiber.md), and the tables of
+ * the fibers that instances use. The scene is not touched. */
 static plm_result prepare_materials(plm_world *w, plm_error *err)
 {
     const plm_scene *s = w->scene;
@@ -418,7 +418,7 @@ static plm_result prepare_materials(plm_world *w, plm_error *err)
     plm_result rc = w->prepared && w->prepared_of && used ? PLM_OK : plm_fail(err, PLM_ERR_NO_MEMORY, "out of memory");
     for (int i = 0; i < s->instance_count && rc == PLM_OK; ++i)
         used[s->instances[i].material] = 1;
-    const plm_fiber_table_options tables = {.budget_mib = s->film.fiber_table_mib};
+    plm_fiber_table_set_init(&w->tables, &(plm_fiber_table_options){.budget_mib = s->film.fiber_table_mib});
     for (int i = 0; i < s->material_count && rc == PLM_OK; ++i) {
         const plm_material *m = &s->materials[i];
         int owner = optics_owner(s, i);
@@ -427,7 +427,7 @@ static plm_result prepare_materials(plm_world *w, plm_error *err)
             plm_material_prepare(m, p);
         w->prepared_of[i] = p;
         if (m->feather || (m->fiber && used[i]))
-            rc = plm_material_prepare_tables(&s->materials[owner], &tables, p, err);
+            rc = plm_material_prepare_tables(&s->materials[owner], &w->tables, p, err);
     }
     free(used);
     return rc;
@@ -530,8 +530,7 @@ void plm_world_free(plm_world *w)
     }
     free(w->prototypes);
     free(w->instance_prototype);
-    for (int i = 0; w->prepared && i < w->scene->material_count; ++i)
-        plm_prepared_material_free(&w->prepared[i]);
+    plm_fiber_table_set_free(&w->tables);
     free(w->prepared);
     free(w->prepared_of);
     plm_embree_close(&w->embree);

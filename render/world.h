@@ -66,6 +66,7 @@ typedef struct plm_world {
      * points to its own or that earlier one's. */
     plm_prepared_material *prepared;
     const plm_prepared_material **prepared_of;
+    plm_fiber_table_set tables; /* their fiber tables, one per distinct fiber */
 } plm_world;
 
 /* Builds everything; the scene must outlive the world. */

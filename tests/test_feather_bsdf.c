@@ -262,7 +262,9 @@ static void tabulated_sampling_matches_pdf_at_grazing_views(void **state)
     plm_material m = feather_material(&p, plm_radians(50.0));
     plm_prepared_material prepared;
     plm_hit hit = plane_hit(&m, &prepared);
-    if (plm_material_prepare_tables(&m, &o, &prepared, &err) != PLM_OK)
+    plm_fiber_table_set tables;
+    plm_fiber_table_set_init(&tables, &o);
+    if (plm_material_prepare_tables(&m, &tables, &prepared, &err) != PLM_OK)
         fail_msg("%s", err.message);
     plm_rng rng;
     plm_rng_seed(&rng, 8, 9);
@@ -274,7 +276,7 @@ static void tabulated_sampling_matches_pdf_at_grazing_views(void **state)
         if (!(pv > threshold))
             fail_msg("chi-square test %d: p-value %.5f below %.5f", t, pv, threshold);
     }
-    plm_prepared_material_free(&prepared);
+    plm_fiber_table_set_free(&tables);
     free_material(&m);
 }
 
@@ -377,7 +379,9 @@ static void sampled_weights_estimate_the_mixture(void **state)
         plm_material m = feather_material(&p, plm_radians(40.0 + 25.0 * t));
         plm_prepared_material prepared;
         plm_hit hit = plane_hit(&m, &prepared);
-        if (plm_material_prepare_tables(&m, &o, &prepared, &err) != PLM_OK)
+        plm_fiber_table_set tables;
+        plm_fiber_table_set_init(&tables, &o);
+        if (plm_material_prepare_tables(&m, &tables, &prepared, &err) != PLM_OK)
             fail_msg("%s", err.message);
         plm_bsdf b;
         plm_material_bsdf(&hit, v3_normalize(t % 2 ? v3(-0.4, 0.3, 0.7) : v3(0.3, -0.5, 0.6)), &rng, &b);
@@ -393,7 +397,7 @@ static void sampled_weights_estimate_the_mixture(void **state)
                          ref.mean, ref.se);
             wrong_caught += side == 0 && zw > 4.2;
         }
-        plm_prepared_material_free(&prepared);
+        plm_fiber_table_set_free(&tables);
         free_material(&m);
     }
     assert_int_equal(wrong_caught, 4);

@@ -41,7 +41,7 @@ static inline void free_material(plm_material *m)
 
 /* A hit on the plane z = 0 with u along x, v along y (toward the tip), normal +z,
  * with what rendering derives from m prepared into *prepared (no tables: add
- * them with plm_material_prepare_tables, free with plm_prepared_material_free). */
+ * them from a table set with plm_material_prepare_tables). */
 static inline plm_hit plane_hit(const plm_material *m, plm_prepared_material *prepared)
 {
     plm_material_prepare(m, prepared);
