@@ -22,6 +22,7 @@
 
 #include "optics/feather_bsdf.h"
 #include "render/render.h"
+#include "optics/fiber_table_set.h"
 #include "tests/fiber_stats.h"
 #include "tests/fiber_table_stats.h"
 #include "tests/fiber_table_render.h"
@@ -596,6 +597,37 @@ static void same_data(const plm_fiber_table *a, const plm_fiber_table *b)
 
 /* Same parameters hit, changed ones miss, a truncated or corrupted file is
  * rebuilt (and replaced by a valid one). */
+/* A set hands out one table per distinct fiber: equal parameters (also -0
+ * against 0) share it, any parameter the table depends on gives another. */
+static void set_shares_equal_fibers(void **state)
+{
+    (void)state;
+    plm_fiber_table_options o = test_options(NULL, 3, 2, 8, 32);
+    plm_fiber_table_set set;
+    plm_fiber_table_set_init(&set, &o);
+    plm_fiber_params a, same, other;
+    plm_fiber_params_default(&a);
+    a.medulla_ca = 0.0;
+    same = a;
+    same.medulla_ca = -0.0;
+    other = a;
+    other.sigma_a.g += 0.5;
+    const plm_fiber_table *ta = NULL, *tsame = NULL, *tother = NULL, *again = NULL;
+    plm_error err;
+    if (plm_fiber_table_set_get(&set, &a, &ta, &err) != PLM_OK ||
+        plm_fiber_table_set_get(&set, &same, &tsame, &err) != PLM_OK ||
+        plm_fiber_table_set_get(&set, &other, &tother, &err) != PLM_OK ||
+        plm_fiber_table_set_get(&set, &a, &again, &err) != PLM_OK)
+        fail_msg("%s", err.message);
+    assert_non_null(ta);
+    assert_ptr_equal(ta, tsame);
+    assert_ptr_equal(ta, again);
+    assert_ptr_not_equal(ta, tother);
+    assert_int_equal(set.count, 2);
+    plm_fiber_table_set_free(&set);
+    assert_int_equal(set.count, 0);
+}
+
 static void cache_hits_misses_and_rebuilds(void **state)
 {
     (void)state;
@@ -838,6 +870,7 @@ int main(void)
         cmocka_unit_test(sampling_matches_pdf),
         cmocka_unit_test(grazing_cells_integrate_and_sample),
         cmocka_unit_test(tabulated_is_deterministic),
+        cmocka_unit_test(set_shares_equal_fibers),
         cmocka_unit_test(cache_hits_misses_and_rebuilds),
         cmocka_unit_test(two_processes_build_at_once),
         cmocka_unit_test(render_estimators_agree),
