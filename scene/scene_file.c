@@ -8,6 +8,7 @@
 
 #include "scene/scene_file.h"
 
+#include "common/feather_texture_contract.h"
 #include "common/json_set.h"
 #include "common/rng.h"
 #include "optics/feather_bsdf.h"
@@ -404,9 +405,39 @@ plm_result plm_fluff_optics_read(const plm_json_reader *r, const cJSON *obj, con
     return read_fiber(r, obj, path, "fluff", &out->fiber);
 }
 
+/* A feather's "pigment": the generator's pigment image (pigment.exr), so that a feather read from its
+ * files is coloured as the same feather generated in memory. Its channels are weights in [0, 1]
+ * (common/feather_texture_contract.h); a 3-channel image has no downy base. */
+static plm_result read_pigment_image(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
+{
+    char file[PLM_PATH_MAX];
+    plm_result rc = plm_scene_read_path(r, obj, path, "pigment", 0, file);
+    if (rc != PLM_OK || !file[0])
+        return rc;
+    plm_image *im = &m->pigment;
+    if ((rc = plm_image_read(file, &im->width, &im->height, &im->channels, &im->pixels, r->err)) != PLM_OK) {
+        plm_error_prefix(r->err, "%s: %s.pigment: ", r->file, path);
+        return rc;
+    }
+    size_t n = (size_t)im->width * (size_t)im->height * (size_t)im->channels, i = 0;
+    if (im->channels >= 3 && im->channels <= PLM_PIGMENT_CHANNELS)
+        while (i < n && im->pixels[i] >= 0.0f && im->pixels[i] <= 1.0f)
+            ++i;
+    else
+        rc = plm_json_fail(r, path, "pigment", "%s has %d channels; a pigment image has 3 or 4", file, im->channels);
+    if (rc == PLM_OK && i < n)
+        rc = plm_json_fail(r, path, "pigment", "%s: value %g at pixel %zu, channel %zu is not a weight in [0, 1]",
+                           file, im->pixels[i], i / (size_t)im->channels, i % (size_t)im->channels);
+    if (rc != PLM_OK) {
+        free(im->pixels);
+        im->pixels = NULL;
+    }
+    return rc;
+}
+
 static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const char *path, plm_material *m)
 {
-    static const char *const extra[] = {"type", "texture", "barb", "barbule", "masking", "bcsdf", NULL};
+    static const char *const extra[] = {"type", "texture", "pigment", "barb", "barbule", "masking", "bcsdf", NULL};
     static const char *const bcsdfs[] = {"tabulated", "stochastic", NULL}; /* in plm_bcsdf_kind's order */
     int bcsdf = PLM_BCSDF_TABULATED;
     plm_result rc = plm_feather_optics_read(r, obj, path, extra, m);
@@ -417,7 +448,7 @@ static plm_result read_feather(const plm_json_reader *r, const cJSON *obj, const
         rc = plm_scene_read_path(r, obj, path, "texture", 1, texture);
     if (rc == PLM_OK && (rc = plm_feather_texture_read(texture, &m->texture, r->err)) != PLM_OK)
         plm_error_prefix(r->err, "%s: %s.texture: ", r->file, path);
-    return rc;
+    return rc == PLM_OK ? read_pigment_image(r, obj, path, m) : rc;
 }
 
 /* {"type": "coat", "reflectance": base albedo, "roughness": GGX alpha, "ior"} */

@@ -1,7 +1,7 @@
 # One feather looks the same however it reaches the renderer: the rachis of
 # `plumage generate`'s feather.json and of the same species generated inside a
 # scene (the path pelts, wings and batches take) is the species' rachis
-# colour, in a render.
+# colour, in a render, and its vane is coloured by the same pigment image.
 # usage: bash cli_rachis.sh <plumage> <scratch dir>
 set -u
 source "$(dirname "$0")/lib_cli.sh"
@@ -36,4 +36,30 @@ for image in from_file in_scene; do
         fail "$image: the rachis is $r $g $b, not in proportion to the species' $ALBEDO"
     fi
 done
+# The vane halfway up the left vane, 5 mm from the shaft, 3 mm across: feather.json names the pigment
+# image (its per-barb variation darkens this vane by about a tenth), so both renders agree within 2%.
+VANE=(--set 'camera={"position": [-5, 20, 60], "look_at": [-5, 20, 0], "fov": 3}'
+      --set 'film={"width": 16, "height": 16, "spp": 64, "max_depth": 1}'
+      --set 'lights=[{"type": "environment", "radiance": [1, 1, 1]}]')
+grep -q '"pigment":[[:space:]]*"pigment.exr"' feather/feather.json && pass "feather.json names its pigment image" ||
+    fail "feather.json names no pigment image"
+mean() { oiiotool --stats "$1" | awk '/Stats Avg:/ { print $3, $4, $5 }'; }
+for image in from_file in_scene; do
+    scene=$([ $image = from_file ] && echo feather/feather.json || echo in_scene.json)
+    expect_ok "render $image's vane" "$PLUMAGE" render "$scene" --quiet "${VANE[@]}" --exr vane_$image.exr -o vane_$image.png
+done
+read -r r g b <<<"$(mean vane_from_file.exr)"
+read -r sr sg sb <<<"$(mean vane_in_scene.exr)"
+if awk -v a="$r $g $b" -v s="$sr $sg $sb" 'BEGIN { split(a, x, " "); split(s, y, " ")
+        for (i = 1; i <= 3; ++i) if (y[i] < 0.05 || y[i] > 0.9 || x[i] < 0.98 * y[i] || x[i] > 1.02 * y[i]) exit 1 }'; then
+    pass "the vane renders alike from feather.json ($r $g $b) and in a scene ($sr $sg $sb)"
+else
+    fail "the vane from feather.json is $r $g $b, in a scene $sr $sg $sb"
+fi
+# A pigment image is weights: 3 or 4 channels in [0, 1].
+oiiotool --create 4x4 2 -o feather/two.exr && oiiotool --create 4x4 4 --fill:color=0,0,2,0 0,0,4,4 -o feather/big.exr
+expect_stderr "a 2-channel pigment image" "materials\.feather\.pigment: feather/two\.exr has 2 channels" \
+    "$PLUMAGE" render feather/feather.json --set materials.feather.pigment=two.exr -o never.png
+expect_stderr "a pigment weight of 2" "materials\.feather\.pigment: feather/big\.exr: value 2 at pixel 0, channel 2" \
+    "$PLUMAGE" render feather/feather.json --set materials.feather.pigment=big.exr -o never.png
 finish

@@ -110,9 +110,10 @@ static cJSON *vec3_json(vec3 v)
 }
 
 /* A scene for `plumage render`: the two meshes, a feather material on the
- * vane, a diffuse rachis in the species' rachis colour, a camera looking at the dorsal side from +z and
+ * vane (with the pigment image, which colours it as in a scene that generates it), a diffuse rachis in the species' rachis colour, a camera looking at the dorsal side from +z and
  * framing the whole feather, and a sky with a sun. */
-static cJSON *scene_json(const plm_feather *f, const cJSON *optics, rgb rachis_rgb, const char *texture_file)
+static cJSON *scene_json(const plm_feather *f, const cJSON *optics, rgb rachis_rgb, const char *texture_file,
+                         const char *pigment_file)
 {
     vec3 lo = v3(1e30, 1e30, 1e30), hi = v3(-1e30, -1e30, -1e30);
     mesh_bounds(&f->vane, &lo, &hi);
@@ -153,6 +154,8 @@ static cJSON *scene_json(const plm_feather *f, const cJSON *optics, rgb rachis_r
     cJSON_DeleteItemFromObjectCaseSensitive(feather, "texture");
     cJSON_AddStringToObject(feather, "type", "feather");
     cJSON_AddStringToObject(feather, "texture", texture_file);
+    if (pigment_file)
+        cJSON_AddStringToObject(feather, "pigment", pigment_file);
     cJSON_AddItemToObject(materials, "feather", feather);
     cJSON *rachis = cJSON_AddObjectToObject(materials, "rachis");
     cJSON_AddStringToObject(rachis, "type", "diffuse");
@@ -199,7 +202,11 @@ plm_result plm_feather_write(const plm_feather *f, const cJSON *optics, rgb rach
         rc = plm_feather_write_textures(f, dir, files, err);
     if (rc != PLM_OK || !f->texture.pixels)
         return rc;
-    cJSON *scene = scene_json(f, optics, rachis, files->no_exr ? "texture.png" : "texture.exr");
+    const char *ext = files->no_exr ? "png" : "exr";
+    char texture[16], pigment[16];
+    snprintf(texture, sizeof texture, "texture.%s", ext);
+    snprintf(pigment, sizeof pigment, "pigment.%s", ext);
+    cJSON *scene = scene_json(f, optics, rachis, texture, f->pigment.pixels ? pigment : NULL);
     char *text = scene ? cJSON_Print(scene) : NULL;
     cJSON_Delete(scene);
     if (!text)
