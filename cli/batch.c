@@ -148,12 +148,15 @@ int cmd_batch(int argc, char **argv)
         "are skipped, so an interrupted batch resumes where it stopped. A failing job does not stop the others;\n"
         "the batch then exits 1 and lists the failures. A sweep also gets OUT/contact_sheet.png, labelled with\n"
         "the parameter values (each key's whole path); every batch gets OUT/report.json. A minimal manifest,\n"
-        "sweep.json, renders a scene at two fields of view and three light strengths (6 jobs):\n"
+        "saved as out/sweep.json in the source tree, renders a scene at two fields of view and three light\n"
+        "strengths (6 jobs):\n"
         "  {\"scene\": \"../presets/scenes/vane_quad.json\", \"spp\": 16, \"resolution\": [192, 256],\n"
         "   \"sweep\": {\"camera.fov\": [25, 40], \"lights.1.irradiance\": [[1, 1, 1], [2, 2, 2], [4, 4, 4]]}}\n"
-        "The scene is read from the manifest's folder; keys are --set paths (see plumage render --help); instead\n"
-        "of \"sweep\", \"jobs\": [{\"name\": \"wide\", \"set\": {\"camera.fov\": 60}}, ...] lists jobs one by one.\n"
-        "The output folder is the manifest's name in the working directory (sweep/), created if missing."};
+        "The scene path is relative to the manifest's folder (out/, hence ../presets/); keys are --set paths (see\n"
+        "plumage render --help); instead of \"sweep\", \"jobs\": [{\"name\": \"wide\", \"set\": {\"camera.fov\": 60}},\n"
+        "...] lists jobs one by one. The output folder is -o DIR, else the manifest's name in the working\n"
+        "directory (sweep/), created if missing:\n"
+        "  plumage batch out/sweep.json -o out/sweep     # out/sweep/0000/image.png ... out/sweep/contact_sheet.png"};
     const char *positional[1];
     int n_pos = 0;
     int rc = plm_parse_options(&help, argc, argv, 1, opts, (int)(sizeof opts / sizeof opts[0]), positional, 1, &n_pos);

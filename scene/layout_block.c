@@ -88,7 +88,10 @@ static const plm_param wing_params[] = {
     {"seed", PLM_PARAM_SEED, offsetof(plm_wing_params, seed), 0, 2147483647, "", "variation", 0},
 };
 const plm_param_block plm_wing_param_block = {
-    "wing", "a right wing (layout type \"wing\"); also rows, variation", wing_params,
+    "wing",
+    "a right wing (layout type \"wing\"): shoulder at the origin, span along +x, leading edge toward +y, its top "
+    "(dorsal) side toward +z; also rows, variation",
+    wing_params,
     PLM_PARAM_COUNT(wing_params)};
 
 /* The species a layout uses, loaded, with their files (for the feather cache). */
