@@ -12,7 +12,7 @@
 #include "generate/bird.h"
 #include "generate/layout.h"
 #include "scene/layout_block.h"
-#include "scene/scene_file.h"
+#include "scene/readers.h"
 
 #define CM2_PER_M2 1e4
 #define MM 0.001

@@ -8,7 +8,7 @@
 #include "common/json.h"
 #include "generate/layout.h"
 #include "optics/feather_bsdf.h"
-#include "scene/scene_file.h"
+#include "scene/readers.h"
 #include "texture/feather.h"
 #include "texture/texture.h"
 

@@ -8,7 +8,7 @@
 #include "common/rng.h"
 #include "generate/layout.h"
 #include "generate/wing.h"
-#include "scene/scene_file.h"
+#include "scene/readers.h"
 
 #define MAX_LAYOUT_SPECIES 16
 #define BIG 1e9
