@@ -358,20 +358,20 @@ void plm_fiber_table_bound_energies(plm_fiber_table *t)
 /* Frees what plm_fiber_table_alloc allocated and leaves the pointers NULL. */
 static void release_arrays(plm_fiber_table *t)
 {
-    free(t->data);
+    plm_fiber_table_release_data(t);
     free(t->h_node);
     free(t->h_node_grazing);
     free(t->node_cos);
     free(t->bound_energy);
     plm_fiber_medulla_release(&t->medulla);
-    t->data = NULL;
     t->h_node = t->h_node_grazing = t->node_cos = NULL;
     t->bound_energy = NULL;
 }
 
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err)
 {
-    t->data = malloc(sizeof(float) * t->floats);
+    if (!t->data) /* else mapped from the cache */
+        t->data = malloc(sizeof(float) * t->floats);
     t->h_node = plm_fiber_h_nodes(t->h_cells);
     t->h_node_grazing = t->grazing_nodes > 0 ? plm_fiber_h_nodes(t->grazing_cells) : NULL;
     t->node_cos = malloc(sizeof(double) * (size_t)t->theta_nodes);

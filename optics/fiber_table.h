@@ -21,7 +21,7 @@
 #include "optics/fiber_grid.h"
 #include "optics/fiber_medulla_table.h"
 
-#define PLM_FIBER_TABLE_VERSION 15
+#define PLM_FIBER_TABLE_VERSION 16
 /* |theta_o| of a table's limit node (plm_fiber_table.limit_node). */
 #define PLM_FIBER_THETA_LIMIT (89.9 * PLM_PI / 180.0)
 /* Default resolution aims at this many bytes per table. */
@@ -80,6 +80,8 @@ typedef struct plm_fiber_table {
     size_t floats;     /* both parts */
     plm_fiber_medulla_table medulla; /* theta_nodes 0 without a medulla */
     int from_cache;    /* 1 if read from the disk cache */
+    void *mapping;     /* from the cache: its file mapped read-only, data inside it; else NULL, data malloc'd */
+    size_t mapping_bytes;
     double build_seconds;
 } plm_fiber_table;
 
@@ -93,6 +95,8 @@ size_t plm_fiber_table_bytes(const plm_fiber_table *t);
  * the arrays, and the build on all cores (progress on stderr after 1 s). */
 void plm_fiber_table_layout(const plm_fiber_params *p, const plm_fiber_table_options *o, plm_fiber_table *t);
 plm_result plm_fiber_table_alloc(plm_fiber_table *t, plm_error *err);
+/* Unmaps or frees t->data, as it was got. */
+void plm_fiber_table_release_data(plm_fiber_table *t);
 plm_result plm_fiber_table_build(plm_fiber_table *t, const plm_fiber_table_options *o, plm_error *err);
 /* Both parts' copies of their rows' energies (bound_energy), once the data is built or read. */
 void plm_fiber_table_bound_energies(plm_fiber_table *t);

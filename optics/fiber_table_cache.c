@@ -7,10 +7,14 @@
  * rename wins. */
 #include "optics/fiber_table.h"
 
+#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "common/fileio.h"
 
@@ -22,7 +26,10 @@ typedef struct cache_header {
     int32_t medulla[8]; /* the medulla part's resolution */
     double params[PLM_FIBER_TABLE_PARAM_WORDS];
     uint64_t floats, checksum;
+    char pad[24]; /* to 256 bytes, so that a mapped file's data is as aligned as the header's size */
 } cache_header;
+
+_Static_assert(sizeof(cache_header) == 256, "the data follows the header at a 256-byte offset");
 
 static const char cache_magic[8] = {'P', 'L', 'M', 'F', 'T', 'A', 'B', '\n'};
 
@@ -124,19 +131,49 @@ int plm_fiber_table_cache_path(const plm_fiber_params *p, const plm_fiber_table_
     return path_for(&t, o, path, size);
 }
 
-/* Reads t->data from path if the file is complete and is this table's. */
-static int load(plm_fiber_table *t, const char *path)
+/* Maps path read-only as t->data if the file is complete and is this
+ * table's. A mapping costs no copy and no fresh pages: processes that read
+ * the same table share the page cache's copy. */
+static int map(plm_fiber_table *t, const char *path)
 {
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
+    int fd = open(path, O_RDONLY);
+    if (fd < 0)
+        return 0;
+    size_t bytes = sizeof(cache_header) + sizeof(float) * t->floats;
+    struct stat st;
+    int flags = MAP_PRIVATE;
+#ifdef MAP_POPULATE
+    flags |= MAP_POPULATE; /* every page is read by the checksum at once */
+#endif
+    void *m = fstat(fd, &st) == 0 && (size_t)st.st_size == bytes ? mmap(NULL, bytes, PROT_READ, flags, fd, 0)
+                                                                  : MAP_FAILED;
+    close(fd);
+    if (m == MAP_FAILED)
         return 0;
     cache_header want, got;
     expected_header(t, &want);
-    int ok = fread(&got, sizeof got, 1, fp) == 1 && memcmp(&got, &want, offsetof(cache_header, checksum)) == 0 &&
-             fread(t->data, sizeof(float), t->floats, fp) == t->floats && fgetc(fp) == EOF &&
-             checksum(fnv_basis, t->data, t->floats) == got.checksum;
-    fclose(fp);
-    return ok;
+    memcpy(&got, m, sizeof got);
+    const float *data = (const float *)((const char *)m + sizeof got);
+    if (memcmp(&got, &want, offsetof(cache_header, checksum)) != 0 ||
+        checksum(fnv_basis, data, t->floats) != got.checksum) {
+        munmap(m, bytes);
+        return 0;
+    }
+    t->mapping = m;
+    t->mapping_bytes = bytes;
+    t->data = (float *)data; /* never written: the mapping is read-only */
+    return 1;
+}
+
+void plm_fiber_table_release_data(plm_fiber_table *t)
+{
+    if (t->mapping)
+        munmap(t->mapping, t->mapping_bytes);
+    else
+        free(t->data);
+    t->mapping = NULL;
+    t->mapping_bytes = 0;
+    t->data = NULL;
 }
 
 static plm_result save(const plm_fiber_table *t, const char *path, plm_error *err)
@@ -178,26 +215,21 @@ plm_result plm_fiber_table_get(const plm_fiber_params *p, const plm_fiber_table_
     if (!t)
         return plm_fail(err, PLM_ERR_NO_MEMORY, "fiber table: out of memory");
     plm_fiber_table_layout(p, o, t);
+    char path[4096];
+    int cached = path_for(t, o, path, sizeof path);
+    t->from_cache = cached && map(t, path);
     if ((rc = plm_fiber_table_alloc(t, err)) != PLM_OK) {
         free(t);
         return rc;
     }
-    char path[4096];
-    int cached = path_for(t, o, path, sizeof path);
-    if (cached && load(t, path)) {
-        plm_fiber_table_bound_energies(t);
-        t->from_cache = 1;
-        *out = t;
-        return PLM_OK;
-    }
-    if ((rc = plm_fiber_table_build(t, o, err)) != PLM_OK) {
+    if (!t->from_cache && (rc = plm_fiber_table_build(t, o, err)) != PLM_OK) {
         plm_fiber_table_free(t);
         return rc;
     }
     plm_fiber_table_bound_energies(t);
     plm_error save_err;
     /* A cache that cannot be written costs a rebuild next time, nothing more. */
-    if (cached && save(t, path, &save_err) != PLM_OK && !(o && o->quiet))
+    if (cached && !t->from_cache && save(t, path, &save_err) != PLM_OK && !(o && o->quiet))
         fprintf(stderr, "warning: fiber table not cached: %s\n", save_err.message);
     *out = t;
     return PLM_OK;
