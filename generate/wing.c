@@ -31,18 +31,31 @@ typedef struct wing_skeleton {
     vec3 joint[4];    /* shoulder, elbow, wrist, hand tip */
     double angle[3];  /* humerus, forearm, hand: radians from +x toward +y (forward) */
     double spread[3]; /* the same bones' angles with the wing spread */
+    int np, ns, nt;   /* primaries, secondaries, tertials: the folded wing's stack */
+    double chord;     /* layout units */
+    double tissue;    /* how high the folded wing's leading edge stands over the bones (WING_FOLDED_TISSUE) */
 } wing_skeleton;
 
 static vec3 planar(double angle) { return v3(cos(angle), sin(angle), 0.0); }
 static double lerp(double a, double b, double t) { return a + (b - a) * t; }
 
-static wing_skeleton skeleton_of(const plm_wing_params *p, double span, double primary)
+/* Folded, the rows of coverts lie each on the roots of the row behind it,
+ * so the wing is thickest at its leading edge, as a bird's is: the skin
+ * ahead of the bones, the leading edge's tissue, rises from them to this
+ * share of the chord at the front marginal row (WING_FOLDED_EDGE chords
+ * ahead of the bones), and reaches under the marginal coverts' tips
+ * (WING_SKIN_FOLDED). On the flat skin the front rows rested on the rows
+ * behind them alone, their tips in the air over the leading edge. */
+#define WING_FOLDED_TISSUE 0.12
+#define WING_FOLDED_EDGE 0.34
+
+static wing_skeleton skeleton_of(const plm_wing_params *p, double span, double chord, int np, int ns, int nt)
 {
     /* Bone proportions of a typical wing: humerus, forearm, hand about 3 : 4 : 3. */
     static const double share[3] = {0.29, 0.39, 0.32};
-    static const double folded[3] = {-60.0, 100.0, -95.0};
-    double bones = fmax(span - 0.85 * primary, 0.3 * span);
-    wing_skeleton w;
+    static const double folded[3] = {-55.0, 85.0, -82.0};
+    double bones = fmax(span - 0.85 * 1.4 * chord, 0.3 * span);
+    wing_skeleton w = {.np = np, .ns = ns, .nt = nt, .chord = chord, .tissue = p->fold * WING_FOLDED_TISSUE * chord};
     w.spread[0] = 0.0;
     w.spread[1] = 0.0;
     w.spread[2] = -p->sweep;
@@ -61,9 +74,76 @@ static vec3 on_bone(const wing_skeleton *w, int b, double t, double forward)
     return v3_madd(p, planar(w->angle[b] + 0.5 * PLM_PI), forward);
 }
 
-/* Folded, the primaries point back and a little in (degrees from +x): past
- * the tertials' tips, toward the tail, where a perched bird's wingtips cross. */
-#define WING_FOLDED_PRIMARY -97.0
+#define WING_BAND_HAND 0.2 /* how far out along the hand a band reaches */
+#define WING_BAND_SHOULDER 1.98 /* and how far in: 0 wrist, 1 elbow, 2 shoulder */
+
+/* Folded, the humerus lies under the body's feathers, and what lies ahead
+ * of it is the forearm's band of coverts: a band's part along the humerus
+ * moves, as the wing folds, onto the forearm's line extended past the
+ * elbow, over the tertials' bases, this share of its length (at its full
+ * length the rows covered the tertials). Likewise a band's part along the
+ * hand, which folds back under the forearm's feathers: onto the forearm's
+ * line extended a little ahead of the wrist, rounding the bend of the wing
+ * (along the hand it hung below the wrist as a tail of coverts). Bands
+ * overlapping one another piled up into a heap of coverts. */
+#define WING_FOLDED_HUMERUS 0.7
+#define WING_FOLDED_HAND 0.3
+
+/* A point `along` the arm (-WING_BAND_HAND out along the hand, 0 the wrist,
+ * 1 the elbow, 2 the shoulder), `forward` ahead of its bone, on the tissue
+ * of the folded wing's leading edge. */
+static vec3 on_arm(const wing_skeleton *sk, double fold, double along, double forward)
+{
+    int bone = along < 0.0 ? 2 : along < 1.0 ? 1 : 0;
+    double t = bone == 2 ? -along : bone == 1 ? 1.0 - along : 2.0 - along;
+    vec3 p = on_bone(sk, bone, plm_clamp(t, 0.0, 1.0), forward);
+    if (bone != 1) {
+        vec3 back = v3_sub(sk->joint[1], sk->joint[2]); /* wrist to elbow */
+        vec3 q = bone == 0 ? v3_madd(on_bone(sk, 1, 0.0, forward), back, (along - 1.0) * WING_FOLDED_HUMERUS)
+                           : v3_madd(on_bone(sk, 1, 1.0, forward), back, along * WING_FOLDED_HAND);
+        p = v3_add(v3_scale(p, 1.0 - fold), v3_scale(q, fold));
+    }
+    /* The tissue thins toward the bend of the wing and over the tertials, where the rows end. */
+    double ends = along < 0.0 ? 1.0 + along / WING_BAND_HAND : 1.0 - (along - 1.0) / (WING_BAND_SHOULDER - 1.0);
+    p.z += sk->tissue * plm_clamp(forward / (WING_FOLDED_EDGE * sk->chord), 0.0, 1.0) * plm_clamp(ends, 0.0, 1.0);
+    return p;
+}
+
+/* Folded, the flight feathers lie in one stack, from the innermost tertial
+ * on top (toward the bird's back, -x) to the outermost primary at the
+ * bottom, each a little steeper than the one above (degrees below straight
+ * back): each feather's narrow outer vane lies over the broad inner vane of
+ * the one below, the secondaries' tips step down and forward, and the
+ * primaries reach past them to the wing's point. */
+#define WING_FAN_TOP -16.0
+#define WING_FAN_BOTTOM 10.0
+
+/* Folded, a band's coverts point this much further down (toward the
+ * trailing edge) than the flight feathers beneath them: each lies over the
+ * roots of the rows behind it, placed before it, as on the spread wing. Along
+ * the rows, pointing back up toward the leading edge, each row's tips lay
+ * under the next row's roots and lifted them like scales. */
+#define WING_FOLDED_SLANT 30.0
+
+/* The folded direction at stack position s (0 the top, the innermost
+ * tertial; nt + ns + np - 1 the outermost primary; fractions between). */
+static double folded_fan(const wing_skeleton *sk, double s)
+{
+    double last = sk->nt + sk->ns + sk->np - 1;
+    return -90.0 + lerp(WING_FAN_TOP, WING_FAN_BOTTOM, plm_clamp(s / last, 0.0, 1.0));
+}
+
+/* The stack position of the flight feather rooted `along` the arm (as a
+ * band's: from -WING_BAND_HAND on the hand over the wrist 0 and the elbow
+ * 1 toward the shoulder 2), so that the coverts over it lie as it does. */
+static double stack_at(const wing_skeleton *sk, double along)
+{
+    if (along >= 1.0) /* the tertials, on the humerus's outer quarter */
+        return (sk->nt - 1) * plm_clamp(1.0 - (along - 1.0) / 0.25, 0.0, 1.0);
+    if (along >= 0.0) /* the secondaries, wrist (the lowest) to elbow */
+        return sk->nt + (sk->ns - 1) * (1.0 - along);
+    return sk->nt + sk->ns - 1 - along / 0.12 * 0.5; /* the hand: toward the inner primaries */
+}
 
 /* Rows of lesser and marginal coverts, and how many coverts a row of them has. */
 #define WING_LESSER_ROWS 3
@@ -120,8 +200,6 @@ static void add_feather(wing_rows *w, int row, vec3 root, double direction, doub
  * the bones (less ahead of the hand, whose leading edge is narrower),
  * fanning from 75 to 110 degrees behind them; `offset` (0 or 0.5 of a
  * spacing) lets one row lie over the gaps of the row behind. */
-#define WING_BAND_HAND 0.2 /* how far out along the hand a band reaches */
-#define WING_BAND_SHOULDER 1.98 /* and how far in: 0 wrist, 1 elbow, 2 shoulder */
 /* The marginal coverts reach a third of the way up the humerus: nearer the
  * shoulder its leading edge lies under the body's feathers, and folded, a
  * row along the whole humerus ran round the wing's inner end like a collar. */
@@ -138,6 +216,7 @@ static void add_band(const plm_wing_params *p, const wing_skeleton *sk, wing_row
     plm_rng rng; /* each band its own stream, named by its row and how far ahead it lies */
     plm_rng_seed(&rng, plm_hash64(p->seed, (uint64_t)row, (uint64_t)(forward * 1e6)), PLM_LAYOUT_STREAM_PLACE);
     double spacing = (reach + WING_BAND_HAND) / (n - 1);
+    int first = w->count;
     for (int j = 0; j < n; ++j) {
         double u = (j + offset) / (n - 1), jitter[4];
         for (int k = 0; k < 4; ++k)
@@ -145,13 +224,23 @@ static void add_band(const plm_wing_params *p, const wing_skeleton *sk, wing_row
         double along = lerp(-WING_BAND_HAND, reach, u) + WING_BAND_JITTER * spacing * jitter[0];
         double fan = (along + WING_BAND_HAND) / (WING_BAND_SHOULDER + WING_BAND_HAND);
         int bone = along < 0.0 ? 2 : along < 1.0 ? 1 : 0;
-        double t = bone == 2 ? -along : bone == 1 ? 1.0 - along : 2.0 - along;
         double ahead = forward * (1.0 + 0.1 * jitter[1]);
         if (bone == 2)
-            ahead *= 1.0 - 0.8 * t / WING_BAND_HAND;
-        add_feather(w, row, on_bone(sk, bone, plm_clamp(t, 0.0, 1.0), ahead),
-                    fold_direction(p, sk->spread[bone] - plm_radians(lerp(75.0, 110.0, fan) + 8.0 * jitter[2]), -92.0),
+            ahead *= 1.0 + 0.8 * along / WING_BAND_HAND;
+        add_feather(w, row, on_arm(sk, p->fold, along, ahead),
+                    fold_direction(p, sk->spread[bone] - plm_radians(lerp(75.0, 110.0, fan) + 8.0 * jitter[2]),
+                                   folded_fan(sk, stack_at(sk, along)) + WING_FOLDED_SLANT),
                     length * (1.0 + 0.15 * jitter[3]));
+    }
+    /* Folded, a row's coverts point back along it, and each lies over the
+     * root of the one behind it, as shingles: they settle from the back end
+     * forward. Settled from the wrist back, each one's base rode up on the
+     * one in front, and the back end of every row hung in the air over the
+     * tertials. */
+    for (int a = first, b = w->count - 1; p->fold > 0.5 && a < b; ++a, --b) {
+        wing_feather t = w->f[a];
+        w->f[a] = w->f[b];
+        w->f[b] = t;
     }
 }
 
@@ -186,13 +275,14 @@ static void build_dorsal(const plm_wing_params *p, const wing_skeleton *sk, doub
     for (int i = np - 1; i >= 0; --i) {
         double u = np > 1 ? (double)i / (np - 1) : 1.0;
         add_feather(w, PLM_WING_PRIMARY, on_bone(sk, 2, 0.12 + 0.88 * u, 0.0),
-                    fold_direction(p, sk->spread[2] - plm_radians(lerp(70.0, 14.0, u)), WING_FOLDED_PRIMARY),
+                    fold_direction(p, sk->spread[2] - plm_radians(lerp(70.0, 14.0, u)), folded_fan(sk, nt + ns + i)),
                     ramp(primary_ramp, 4, u));
     }
     for (int j = 0; j < ns; ++j) {
         double u = ns > 1 ? (double)j / (ns - 1) : 0.0;
         add_feather(w, PLM_WING_SECONDARY, on_bone(sk, 1, 1.0 - 0.95 * u, 0.0),
-                    fold_direction(p, sk->spread[1] - plm_radians(lerp(82.0, 100.0, u)), -91.0),
+                    fold_direction(p, sk->spread[1] - plm_radians(lerp(82.0, 100.0, u)),
+                                   folded_fan(sk, nt + ns - 1 - j)),
                     chord * (1.0 - 0.08 * u));
         if (j < p->speculum)
             w->f[w->count - 1].species = PLM_WING_SPECULUM;
@@ -200,7 +290,7 @@ static void build_dorsal(const plm_wing_params *p, const wing_skeleton *sk, doub
     for (int k = 0; k < nt; ++k) {
         double u = nt > 1 ? (double)k / (nt - 1) : 0.0;
         add_feather(w, PLM_WING_TERTIAL, on_bone(sk, 0, 0.97 - 0.25 * u, 0.0),
-                    fold_direction(p, sk->spread[0] - plm_radians(lerp(102.0, 112.0, u)), -95.0),
+                    fold_direction(p, sk->spread[0] - plm_radians(lerp(102.0, 112.0, u)), folded_fan(sk, nt - 1 - k)),
                     chord * (0.8 - 0.2 * u));
     }
     w->flight = w->count;
@@ -210,7 +300,8 @@ static void build_dorsal(const plm_wing_params *p, const wing_skeleton *sk, doub
      * ones below fanning a little back over the coverts. */
     for (int a = 2; a >= 0; --a)
         add_feather(w, PLM_WING_ALULA, on_bone(sk, 2, 0.04 + 0.02 * a, 0.015 * chord),
-                    fold_direction(p, sk->spread[2] - plm_radians(4.0 * a), -80.0), (0.3 - 0.04 * a) * chord);
+                    fold_direction(p, sk->spread[2] - plm_radians(4.0 * a), folded_fan(sk, nt + ns + a)),
+                    (0.3 - 0.04 * a) * chord);
     /* Median coverts over the secondaries' coverts, lesser coverts toward the
      * leading edge, each row over the gaps of the one behind, and the
      * marginal coverts, the smallest, along the leading edge itself. */
@@ -238,8 +329,10 @@ static void build_ventral(const plm_wing_params *p, const wing_skeleton *sk, dou
     for (int sub = 0; sub < 4; ++sub)
         add_band(p, sk, w, PLM_WING_UNDER_COVERT, sub ? band : ns + nt, 0.5 * (sub & 1),
                  (0.10 + 0.075 * sub) * chord, (0.28 - 0.05 * sub) * chord, WING_BAND_SHOULDER);
-    for (int i = first; i < w->count; ++i)
+    for (int i = first; i < w->count; ++i) { /* the tissue stands on the dorsal side */
         w->f[i].under = 1;
+        w->f[i].root.z = 0.0;
+    }
 }
 
 /* A height field over the wing plane: the highest z of what lies beneath. */
@@ -277,13 +370,19 @@ static double raster(height_grid *g, vec3 a, vec3 b, vec3 c, int mode)
     return need;
 }
 
-static double raster_instance(height_grid *g, const plm_layout_instance *in, const plm_layout_extent *e, int mode)
+/* The instance's triangles rastered (raster's mode), leaving out those
+ * nearer its root than `embedded` (mm along its rachis). */
+static double raster_instance(height_grid *g, const plm_layout_instance *in, const plm_layout_extent *e, int mode,
+                              double embedded)
 {
     double need = -INFINITY;
     for (int k = 0; k < 2; ++k) {
         const plm_mesh *m = &e->mesh[k];
         for (int t = 0; t < m->triangle_count; ++t) {
             const uint32_t *v = m->indices + 3 * t;
+            if (m->positions[3 * v[0] + 1] < embedded && m->positions[3 * v[1] + 1] < embedded &&
+                m->positions[3 * v[2] + 1] < embedded)
+                continue;
             vec3 a = plm_layout_apply(in, m->positions + 3 * v[0]), b = plm_layout_apply(in, m->positions + 3 * v[1]),
                  c = plm_layout_apply(in, m->positions + 3 * v[2]);
             need = fmax(need, raster(g, a, b, c, mode));
@@ -293,14 +392,21 @@ static double raster_instance(height_grid *g, const plm_layout_instance *in, con
 }
 
 /* The instance pitched by `angle` about its feather frame's x axis at the
- * root: the tip rises for positive angles. */
+ * root: the tip rises for positive angles. The frame turns as a whole, its
+ * rachis and dorsal axes keeping their lengths (a folded wing's feathers are
+ * flattened along the dorsal one). */
 static void pitch(plm_layout_instance *in, double angle)
 {
-    double c = cos(angle), s = sin(angle);
+    double c = cos(angle), s = sin(angle), lt = 0.0, lz = 0.0;
     for (int r = 0; r < 3; ++r) {
-        double t = in->m[r][1], z = in->m[r][2];
+        lt += in->m[r][1] * in->m[r][1];
+        lz += in->m[r][2] * in->m[r][2];
+    }
+    double k = sqrt(lt / lz);
+    for (int r = 0; r < 3; ++r) {
+        double t = in->m[r][1], z = in->m[r][2] * k;
         in->m[r][1] = c * t + s * z;
-        in->m[r][2] = c * z - s * t;
+        in->m[r][2] = (c * z - s * t) / k;
     }
 }
 
@@ -315,7 +421,8 @@ static void pitch(plm_layout_instance *in, double angle)
 #define WING_PITCH_DOWN 8
 #define WING_PITCH_UP 10
 
-static void settle(height_grid *g, plm_layout_instance *in, const plm_layout_extent *e, double clearance)
+static void settle(height_grid *g, plm_layout_instance *in, const plm_layout_extent *e, double clearance,
+                   double embedded)
 {
     const float middle[3] = {0.0f, (float)(0.5 * e->length), 0.0f};
     plm_layout_instance flat = *in;
@@ -323,7 +430,7 @@ static void settle(height_grid *g, plm_layout_instance *in, const plm_layout_ext
     for (int degrees = -WING_PITCH_DOWN; degrees <= WING_PITCH_UP; ++degrees) {
         plm_layout_instance t = flat;
         pitch(&t, plm_radians(degrees));
-        double need = raster_instance(g, &t, e, 1);
+        double need = raster_instance(g, &t, e, 1, embedded);
         if (need == -INFINITY && degrees != 0)
             continue;
         t.m[2][3] += fmax(need, 0.0) + clearance;
@@ -432,10 +539,63 @@ static plm_result make_grid(const wing_rows *w, double reach, double cell, heigh
     return PLM_OK;
 }
 
+/* The skin's front edge ahead of humerus and forearm, in chords: behind the
+ * front two rows of marginal coverts' roots (0.30 and 0.34), which cover it
+ * (at 0.32 it showed between the front row's roots). The strip ends a tenth
+ * of the way along the hand, narrowing to WING_SKIN_HAND: further out the
+ * primaries' and their coverts' bases lie on the hand with no skin between
+ * (a strip along the whole hand showed along its leading edge). */
+#define WING_SKIN_ARM 0.28
+#define WING_SKIN_HAND 0.015
+/* Along the inner humerus, beyond the marginal coverts' reach: under the front lesser row (0.26). */
+#define WING_SKIN_HUMERUS 0.21
+#define WING_SKIN_END 2.1
+/* Folded, the front edge all along the arm: under the marginal coverts' tips, behind the front row's roots. */
+#define WING_SKIN_FOLDED 0.33
+#define WING_SKIN_POINTS (3 * 16 + 1) /* along the strip: 16 per bone */
+
+/* A point of the skin's strip: along the arm (0 shoulder, 1 elbow, 2 wrist,
+ * then along the hand), at its back edge (the bones) or its front edge. */
+static vec3 skin_point(const wing_skeleton *sk, double fold, double along, int front, double chord)
+{
+    int b = along >= 2.0 ? 2 : (int)along;
+    double t = along - b, end = WING_SKIN_END - 2.0;
+    double ahead = b == 1   ? WING_SKIN_ARM
+                   : b == 2 ? lerp(WING_SKIN_ARM, WING_SKIN_HAND, fmin(t / end, 1.0))
+                            : lerp(WING_SKIN_HUMERUS, WING_SKIN_ARM, plm_clamp((t - 0.6) / 0.4, 0.0, 1.0));
+    return on_arm(sk, fold, 2.0 - along, front ? lerp(ahead, WING_SKIN_FOLDED, fold) * chord : 0.0);
+}
+
+/* The skin raised into the height field, so that a folded wing's coverts
+ * settle onto the leading edge's tissue. */
+static void raster_skin(height_grid *g, const wing_skeleton *sk, double fold, double chord)
+{
+    for (int k = 0; k + 1 < WING_SKIN_POINTS; ++k) {
+        vec3 q[4];
+        for (int v = 0; v < 4; ++v)
+            q[v] = skin_point(sk, fold, WING_SKIN_END * (k + v / 2) / (WING_SKIN_POINTS - 1), v & 1, chord);
+        raster(g, q[0], q[2], q[1], 0);
+        raster(g, q[1], q[2], q[3], 0);
+    }
+}
+
 /* Roll of every wing feather about its rachis, raising its distal (leading)
  * vane: where neighbours overlap, the proximal one's raised vane lies over
  * the distal one's lowered vane, as on a real wing. */
 #define WING_ROLL_DEGREES 10.0
+/* Folded, the feathers lie one on another, in order as they are placed: a
+ * full roll raised each one's leading vane over the next a feather's width
+ * further, and the stack of them a third of the chord high. */
+#define WING_FOLDED_ROLL 2.0
+
+/* How much flatter a folded wing's feathers lie than they were generated. */
+#define WING_FOLDED_FLATTEN 0.1
+
+/* Folded, the feathers' bases lie in the wing's tissue at the bones, side by
+ * side, not on one another: this share of each feather, from its root, is
+ * not stacked. Stacked base on base, every primary lifted the next by its
+ * calamus and the stack stood a quarter of the chord high at the hand. */
+#define WING_FOLDED_EMBEDDED 0.2
 
 /* What placing needs besides the feather: the prototypes' extents, the
  * variation, and the two height fields, over the dorsal side and (mirrored)
@@ -462,7 +622,7 @@ static void place(wing_placer *pl, const wing_rows *w, int i, int order, plm_lay
     plm_layout_draw_variation(&rng, &pl->var, in);
     in->lift = 0.0;
     const plm_layout_extent *e = &pl->ext[in->prototype];
-    double roll = plm_radians(WING_ROLL_DEGREES);
+    double roll = plm_radians(lerp(WING_ROLL_DEGREES, WING_FOLDED_ROLL, pl->p->fold));
     vec3 t = planar(f->direction + in->yaw), up = v3(0, 0, 1), x0 = v3_cross(t, up);
     vec3 x = v3_sub(v3_scale(x0, cos(roll)), v3_scale(up, sin(roll)));
     vec3 z = v3_add(v3_scale(x0, sin(roll)), v3_scale(up, cos(roll)));
@@ -476,18 +636,24 @@ static void place(wing_placer *pl, const wing_rows *w, int i, int order, plm_lay
      * back, its dorsal side faces down and its matrix is a rotation again. */
     if (f->under)
         x = v3_neg(x);
-    plm_layout_set_matrix(in, x, t, z, v3_madd(f->root, up, stack), in->scale * f->length / e->length);
+    /* Folded, the feathers lie pressed on one another: flatter, their rachises and the roll lifting the
+     * ones above less (stiff, a stack of 25 flight feathers stood a third of the chord high). */
+    double flatten = lerp(1.0, WING_FOLDED_FLATTEN, pl->p->fold);
+    double clearance = lerp(0.004, 0.001, pl->p->fold) * pl->chord;
+    double embedded = pl->p->fold * WING_FOLDED_EMBEDDED * e->length;
+    plm_layout_set_matrix(in, x, t, v3_scale(z, flatten), v3_madd(f->root, up, stack),
+                          in->scale * f->length / e->length);
     if (f->under) {
-        settle(&pl->below, in, e, 0.004 * pl->chord);
-        raster_instance(&pl->below, in, e, 0);
+        settle(&pl->below, in, e, clearance, embedded);
+        raster_instance(&pl->below, in, e, 0, embedded);
         *in = mirrored(in);
         return;
     }
-    if (i >= w->flight)
-        settle(&pl->above, in, e, 0.004 * pl->chord);
-    raster_instance(&pl->above, in, e, 0);
+    if (i >= w->flight || pl->p->fold > 0.0)
+        settle(&pl->above, in, e, clearance, embedded);
+    raster_instance(&pl->above, in, e, 0, embedded);
     plm_layout_instance below = mirrored(in);
-    raster_instance(&pl->below, &below, e, 0);
+    raster_instance(&pl->below, &below, e, 0, embedded);
 }
 
 plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *rows, plm_layout *out,
@@ -506,7 +672,7 @@ plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *r
         list[r] = rows[r] ? rows[r] : list[plm_wing_row_fallback(r)];
 
     double primary = 1.4 * chord;
-    wing_skeleton sk = skeleton_of(p, span, primary);
+    wing_skeleton sk = skeleton_of(p, span, chord, np, ns, nt);
     wing_rows w = {0};
     /* Flight feathers, coverts above and below their bases, the alula, the median coverts; the bands of
      * 2 (ns + nt) coverts above (lesser, marginal) and below (three), and the under-wing median row. */
@@ -536,6 +702,8 @@ plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *r
     /* Dorsal order: the under-wing coverts first, the last to settle (the most ventral) lowest. */
     int ventral = w.count - dorsal;
     for (int i = 0; rc == PLM_OK && i < w.count; ++i) {
+        if (i == w.flight && p->fold > 0.0) /* the coverts lie on the flight feathers and the skin */
+            raster_skin(&pl.above, &sk, p->fold, chord);
         int order = i < dorsal ? ventral + i : w.count - 1 - i;
         place(&pl, &w, i, order, &out->instances[order]);
         if (!identity)
@@ -552,30 +720,6 @@ plm_result plm_layout_wing(const plm_wing_params *p, const plm_species *const *r
     return rc;
 }
 
-/* The skin's front edge ahead of humerus and forearm, in chords: behind the
- * front two rows of marginal coverts' roots (0.30 and 0.34), which cover it
- * (at 0.32 it showed between the front row's roots). The strip ends a tenth
- * of the way along the hand, narrowing to WING_SKIN_HAND: further out the
- * primaries' and their coverts' bases lie on the hand with no skin between
- * (a strip along the whole hand showed along its leading edge). */
-#define WING_SKIN_ARM 0.28
-#define WING_SKIN_HAND 0.015
-/* Along the inner humerus, beyond the marginal coverts' reach: under the front lesser row (0.26). */
-#define WING_SKIN_HUMERUS 0.21
-#define WING_SKIN_END 2.1
-
-/* A point of the skin's strip: along the arm (0 shoulder, 1 elbow, 2 wrist,
- * then along the hand), at its back edge (the bones) or its front edge. */
-static vec3 skin_point(const wing_skeleton *sk, double along, int front, double chord)
-{
-    int b = along >= 2.0 ? 2 : (int)along;
-    double t = along - b, end = WING_SKIN_END - 2.0;
-    double ahead = b == 1   ? WING_SKIN_ARM
-                   : b == 2 ? lerp(WING_SKIN_ARM, WING_SKIN_HAND, fmin(t / end, 1.0))
-                            : lerp(WING_SKIN_HUMERUS, WING_SKIN_ARM, plm_clamp((t - 0.6) / 0.4, 0.0, 1.0));
-    return on_bone(sk, b, t, front ? ahead * chord : 0.0);
-}
-
 plm_result plm_wing_skin(const plm_wing_params *p, plm_mesh *out, plm_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -584,9 +728,8 @@ plm_result plm_wing_skin(const plm_wing_params *p, plm_mesh *out, plm_error *err
     plm_result rc = resolve(p, &np, &ns, &nt, &span, &chord, &identity, err);
     if (rc != PLM_OK)
         return rc;
-    wing_skeleton sk = skeleton_of(p, span, 1.4 * chord);
-    enum { STEPS = 16 }; /* per bone */
-    int n = 3 * STEPS + 1;
+    wing_skeleton sk = skeleton_of(p, span, chord, np, ns, nt);
+    int n = WING_SKIN_POINTS;
     out->vertex_count = 2 * n;
     out->triangle_count = 2 * (n - 1);
     out->positions = malloc(sizeof(float) * 3 * (size_t)out->vertex_count);
@@ -598,7 +741,7 @@ plm_result plm_wing_skin(const plm_wing_params *p, plm_mesh *out, plm_error *err
     }
     const double (*f)[4] = p->frame;
     for (int v = 0; v < out->vertex_count; ++v) {
-        vec3 q = skin_point(&sk, WING_SKIN_END * (v / 2) / (n - 1), v & 1, chord);
+        vec3 q = skin_point(&sk, p->fold, WING_SKIN_END * (v / 2) / (n - 1), v & 1, chord);
         double x[3] = {q.x, q.y, q.z}, nz[3] = {0, 0, 1};
         for (int r = 0; r < 3; ++r) {
             out->positions[3 * v + r] =
