@@ -550,7 +550,8 @@ static plm_result make_grid(const wing_rows *w, double reach, double cell, heigh
 /* Along the inner humerus, beyond the marginal coverts' reach: under the front lesser row (0.26). */
 #define WING_SKIN_HUMERUS 0.21
 #define WING_SKIN_END 2.1
-/* Folded, the front edge all along the arm: under the marginal coverts' tips, behind the front row's roots. */
+/* Folded, the front edge along the forearm: under the marginal coverts' tips, behind the front row's roots;
+ * elsewhere as much further forward (all along the arm, it showed beyond the marginal coverts' reach). */
 #define WING_SKIN_FOLDED 0.33
 #define WING_SKIN_POINTS (3 * 16 + 1) /* along the strip: 16 per bone */
 
@@ -563,7 +564,7 @@ static vec3 skin_point(const wing_skeleton *sk, double fold, double along, int f
     double ahead = b == 1   ? WING_SKIN_ARM
                    : b == 2 ? lerp(WING_SKIN_ARM, WING_SKIN_HAND, fmin(t / end, 1.0))
                             : lerp(WING_SKIN_HUMERUS, WING_SKIN_ARM, plm_clamp((t - 0.6) / 0.4, 0.0, 1.0));
-    return on_arm(sk, fold, 2.0 - along, front ? lerp(ahead, WING_SKIN_FOLDED, fold) * chord : 0.0);
+    return on_arm(sk, fold, 2.0 - along, front ? (ahead + fold * (WING_SKIN_FOLDED - WING_SKIN_ARM)) * chord : 0.0);
 }
 
 /* The skin raised into the height field, so that a folded wing's coverts
