@@ -1,7 +1,8 @@
 # Every scene preset renders at a tiny resolution: the images are finite and
-# not black, and the same at one and two threads (deterministic); and the
-# parameter tables in docs/scene-format.md and docs/species.md and the
-# example in docs/scene-format.md are the ones the readers check and the preset file.
+# not black, and the same at one and two threads (deterministic; the bird's
+# determinism is cli_birds'); and the parameter tables in docs/scene-format.md
+# and docs/species.md and the example in docs/scene-format.md are the ones the
+# readers check and the preset file.
 # usage: bash cli_presets.sh <plumage> <scratch dir>
 set -u
 source "$(dirname "$0")/lib_cli.sh"
@@ -11,6 +12,7 @@ for scene in "$PLUMAGE_SOURCE_DIR"/presets/scenes/*.json; do
     expect_ok "$name renders" "$PLUMAGE" render "$scene" --resolution 16x12 --spp 1 --quiet --threads 2 \
         -o "$name.png" --exr "$name.exr"
     expect_image "$name: finite, not black" 16 12 "$name.exr"
+    [ "$name" = amazon_parrot ] && continue # the costliest preset: cli_birds checks the bird's determinism
     expect_ok "$name again on one thread" "$PLUMAGE" render "$scene" --resolution 16x12 --spp 1 --quiet \
         --threads 1 -o "$name.1.png" --exr "$name.1.exr"
     same_pixels "$name.exr" "$name.1.exr" && pass "$name: deterministic" || fail "$name: deterministic"
